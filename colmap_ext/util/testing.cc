@@ -1,0 +1,62 @@
+#include "colmap_ext/util/testing.h"
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "colmap_ext/util/file.h"
+
+namespace colmap_lidar {
+namespace testing {
+namespace {
+
+std::string EnvOr(const char* name, const std::string& fallback) {
+  const char* value = std::getenv(name);
+  return (value != nullptr && value[0] != '\0') ? value : fallback;
+}
+
+}  // namespace
+
+std::string SourceDir() { return EnvOr("COLMAP_LIDAR_SOURCE_DIR", "."); }
+
+std::string BinaryDir() {
+  return EnvOr("COLMAP_LIDAR_BINARY_DIR", JoinPaths(SourceDir(), "build"));
+}
+
+std::string SharedDir() {
+  return EnvOr("COLMAP_LIDAR_SHARED_DIR", JoinPaths(SourceDir(), "../shared"));
+}
+
+std::string KittiSampleDir() {
+  return JoinPaths(SharedDir(), "data/kitti_raw_2011_09_26_sample");
+}
+
+std::string CreateTestDir() {
+  static std::atomic<int> counter{0};
+  std::ostringstream name;
+  name << "colmap_lidar_test_" << ::getpid() << "_" << counter++;
+  const std::string path =
+      (std::filesystem::temp_directory_path() / name.str()).string();
+  std::filesystem::remove_all(path);
+  CreateDirIfNotExists(path);
+  return path;
+}
+
+int RunCommand(const std::string& command_line, const std::string& log_path) {
+  std::string full = command_line;
+  if (!log_path.empty()) {
+    full += " > '" + log_path + "' 2>&1";
+  }
+  const int status = std::system(full.c_str());
+  if (status == -1) {
+    return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace testing
+}  // namespace colmap_lidar

@@ -1,0 +1,26 @@
+// Helpers for the GoogleTest suites: where the shared real data, the stock
+// colmap binary and a fresh temporary folder are.
+#pragma once
+
+#include <string>
+
+namespace colmap_lidar {
+namespace testing {
+
+// ../shared beside the source tree (COLMAP_LIDAR_SHARED_DIR from CTest).
+std::string SharedDir();
+// The KITTI raw sample folder (contains 2011_09_26/).
+std::string KittiSampleDir();
+// The source tree (COLMAP_LIDAR_SOURCE_DIR from CTest).
+std::string SourceDir();
+// The build tree, where build/colmap-lidar lives.
+std::string BinaryDir();
+// A new empty folder under the system temp dir, unique per call.
+std::string CreateTestDir();
+// Runs a shell command line and returns its exit code; stdout and stderr go
+// to `log_path` when not empty.
+int RunCommand(const std::string& command_line,
+               const std::string& log_path = "");
+
+}  // namespace testing
+}  // namespace colmap_lidar

@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""Precision of line tracks against ground-truth edges (no dependencies).
+
+Usage: eval_line_tracks.py TRACKS.json POSES_GT.txt CREASE_EDGES.txt
+
+TRACKS.json is `colmap-lidar line_matcher --export_tracks_path` output (each
+observation's 3D endpoints in its camera frame); POSES_GT.txt the dataset's
+world_from_cam poses (TUM layout, frame name first); CREASE_EDGES.txt the
+synthesizer's ground_truth/crease_edges.txt. Each observation is taken to the
+world with the ground-truth pose and labelled with the nearest ground-truth
+edge (mean endpoint-to-segment distance <= --max_distance, angle <=
+--max_angle_deg); observations with no such edge are unlabelled.
+
+Printed: tracks, mean observations per track, labelled share, and
+- precision: share of tracks whose observations all carry one and the same
+  edge label (an unlabelled observation makes the track impure);
+- precision_labelled: the same over labelled observations only;
+- precision_collinear: like precision_labelled, collinear edges (e.g. the
+  tops of a row of windows) counting as one line.
+"""
+import argparse
+import json
+import math
+import os
+
+
+def quat_to_matrix(qx, qy, qz, qw):
+    n = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+    x, y, z, w = qx / n, qy / n, qz / n, qw / n
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+
+
+def read_poses(path):
+    poses = {}
+    for line in open(path):
+        line = line.strip()
+        if not line or line.startswith('#'):
+            continue
+        f = line.split()
+        t = [float(v) for v in f[1:4]]
+        poses[f[0]] = (quat_to_matrix(*[float(v) for v in f[4:8]]), t)
+    return poses
+
+
+def read_edges(path):
+    edges = []
+    for line in open(path):
+        line = line.strip()
+        if not line or line.startswith('#'):
+            continue
+        v = [float(x) for x in line.split()[:6]]
+        edges.append((v[0:3], v[3:6]))
+    return edges
+
+
+def sub(a, b):
+    return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def norm(a):
+    return math.sqrt(dot(a, a))
+
+
+def point_segment_distance(p, a, b):
+    ab = sub(b, a)
+    length2 = dot(ab, ab)
+    t = 0.0 if length2 == 0 else max(0.0, min(1.0, dot(sub(p, a), ab) / length2))
+    return norm(sub(p, [a[i] + t * ab[i] for i in range(3)]))
+
+
+def point_line_distance(p, a, direction):
+    ap = sub(p, a)
+    along = dot(ap, direction)
+    return norm([ap[i] - along * direction[i] for i in range(3)])
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument('tracks')
+    parser.add_argument('poses_gt')
+    parser.add_argument('crease_edges')
+    parser.add_argument('--max_distance', type=float, default=0.15)
+    parser.add_argument('--max_angle_deg', type=float, default=10.0)
+    args = parser.parse_args()
+
+    poses = read_poses(args.poses_gt)
+    edges = read_edges(args.crease_edges)
+    directions = []
+    for a, b in edges:
+        d = sub(b, a)
+        n = norm(d)
+        directions.append([x / n for x in d] if n > 0 else [1.0, 0.0, 0.0])
+    # Collinear groups: same direction (2 deg) and on each other's line (5 cm).
+    group = list(range(len(edges)))
+
+    def find(i):
+        while group[i] != i:
+            group[i] = group[group[i]]
+            i = group[i]
+        return i
+    cos_collinear = math.cos(math.radians(2.0))
+    for i in range(len(edges)):
+        for j in range(i + 1, len(edges)):
+            if abs(dot(directions[i], directions[j])) < cos_collinear:
+                continue
+            if (point_line_distance(edges[j][0], edges[i][0], directions[i]) < 0.05 and
+                    point_line_distance(edges[j][1], edges[i][0], directions[i]) < 0.05):
+                group[find(i)] = find(j)
+
+    cos_max = math.cos(math.radians(args.max_angle_deg))
+    tracks = json.load(open(args.tracks))['tracks']
+    num_observations = 0
+    num_labelled = 0
+    pure = pure_labelled = pure_collinear = 0
+    for track in tracks:
+        labels = []
+        for obs in track['observations']:
+            num_observations += 1
+            frame = os.path.splitext(os.path.basename(obs['image_name']))[0]
+            rotation, translation = poses[frame]
+            world = []
+            for key in ('start3D_in_cam', 'end3D_in_cam'):
+                p = obs[key]
+                world.append([sum(rotation[r][c] * p[c] for c in range(3)) +
+                              translation[r] for r in range(3)])
+            d = sub(world[1], world[0])
+            n = norm(d)
+            d = [x / n for x in d] if n > 0 else [1.0, 0.0, 0.0]
+            best, best_distance = None, args.max_distance
+            for e, (a, b) in enumerate(edges):
+                if abs(dot(d, directions[e])) < cos_max:
+                    continue
+                distance = 0.5 * (point_segment_distance(world[0], a, b) +
+                                  point_segment_distance(world[1], a, b))
+                if distance <= best_distance:
+                    best, best_distance = e, distance
+            labels.append(best)
+            num_labelled += best is not None
+        known = [l for l in labels if l is not None]
+        pure += len(set(labels)) == 1 and labels[0] is not None
+        pure_labelled += len(set(known)) <= 1
+        pure_collinear += len(set(find(l) for l in known)) <= 1
+    n = max(1, len(tracks))
+    print('tracks %d, observations %d, mean track length %.2f, labelled %.1f%%' %
+          (len(tracks), num_observations, num_observations / n,
+           100.0 * num_labelled / max(1, num_observations)))
+    print('precision %.2f%%, precision_labelled %.2f%%, precision_collinear %.2f%%' %
+          (100.0 * pure / n, 100.0 * pure_labelled / n, 100.0 * pure_collinear / n))
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,365 @@
+#include "src/eval/mesh_evaluator.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
+#include "src/eval/distance_colormap.h"
+#include "src/eval/json_writer.h"
+#include "src/eval/mesh_sampling.h"
+#include "src/eval/nearest_neighbor.h"
+
+namespace colmap_lidar {
+namespace {
+
+void CheckFinite(const std::vector<Eigen::Vector3d>& points,
+                 const std::string& what) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    THROW_CHECK(points[i].allFinite(),
+                what << ": point " << i << " has a non-finite coordinate");
+  }
+}
+
+std::vector<Eigen::Vector3d> ReadPlyPositions(const std::string& path,
+                                              const std::string& what) {
+  CheckFileExists(path, what);
+  const PlyData data = ReadPly(path);
+  THROW_CHECK(data.NumVertices() > 0,
+              what << " " << path << " has no vertices");
+  std::vector<Eigen::Vector3d> points = data.Positions(path);
+  CheckFinite(points, what + " " + path);
+  return points;
+}
+
+}  // namespace
+
+bool MeshEvaluationOptions::Check() const {
+  bool ok = CheckThresholds(thresholds_m, "MeshEvaluation.thresholds_m");
+  if (!(sample_density_per_m2 > 0.0) || !std::isfinite(sample_density_per_m2)) {
+    LOG(ERROR) << "MeshEvaluation.sample_density_per_m2 must be positive, got "
+               << sample_density_per_m2;
+    ok = false;
+  }
+  if (!(observed_radius_m > 0.0) || !std::isfinite(observed_radius_m)) {
+    LOG(ERROR) << "MeshEvaluation.observed_radius_m must be positive, got "
+               << observed_radius_m;
+    ok = false;
+  }
+  if (!std::isfinite(crop_margin_m)) {
+    LOG(ERROR) << "MeshEvaluation.crop_margin_m must be finite";
+    ok = false;
+  }
+  if (!(color_threshold_m >= 0.0) || !std::isfinite(color_threshold_m)) {
+    LOG(ERROR) << "MeshEvaluation.color_threshold_m must be >= 0 (0: auto), "
+                  "got "
+               << color_threshold_m;
+    ok = false;
+  }
+  if (seed < 0) {
+    LOG(ERROR) << "MeshEvaluation.seed must be >= 0, got " << seed;
+    ok = false;
+  }
+  return ok;
+}
+
+double MeshEvaluationOptions::ColorThreshold() const {
+  if (color_threshold_m > 0.0) {
+    return color_threshold_m;
+  }
+  double threshold = thresholds_m.empty() ? 0.1 : thresholds_m.front();
+  for (const double t : thresholds_m) {
+    if (t <= 0.1) {
+      threshold = t;
+    }
+  }
+  return threshold;
+}
+
+MeshEvaluation EvaluateMesh(
+    const std::vector<Eigen::Vector3d>& estimate_vertices,
+    const std::vector<Eigen::Vector3i>& triangles,
+    const std::vector<Eigen::Vector3d>& reference,
+    const std::vector<Eigen::Vector3d>& observed,
+    const MeshEvaluationOptions& options) {
+  THROW_CHECK(options.Check(), "Invalid MeshEvaluation options");
+  THROW_CHECK(!estimate_vertices.empty(), "The estimate has no vertices");
+  THROW_CHECK(!reference.empty(), "The reference cloud has no points");
+  CheckFinite(estimate_vertices, "Estimate");
+  CheckFinite(reference, "Reference cloud");
+  CheckFinite(observed, "Observed cloud");
+
+  MeshEvaluation evaluation;
+  evaluation.thresholds_m = options.thresholds_m;
+  evaluation.color_threshold_m = options.ColorThreshold();
+  evaluation.estimate_is_mesh = !triangles.empty();
+  evaluation.num_estimate_vertices = estimate_vertices.size();
+  evaluation.num_estimate_triangles = triangles.size();
+  if (evaluation.estimate_is_mesh) {
+    evaluation.estimate_area_m2 =
+        TriangleMeshArea(estimate_vertices, triangles);
+    evaluation.estimate_points =
+        SampleTriangleMesh(estimate_vertices, triangles,
+                           options.sample_density_per_m2,
+                           static_cast<uint64_t>(options.seed));
+    THROW_CHECK(!evaluation.estimate_points.empty(),
+                "The estimate mesh has zero surface area ("
+                    << triangles.size() << " degenerate triangles)");
+  } else {
+    evaluation.estimate_points = estimate_vertices;
+  }
+
+  // Reference points kept for recall: those near the observed cloud.
+  evaluation.reference_points = reference;
+  evaluation.reference_kept.assign(reference.size(), true);
+  if (!observed.empty()) {
+    const PointCloudIndex observed_index(observed);
+    const std::vector<double> to_observed =
+        observed_index.NearestDistances(reference);
+    for (size_t i = 0; i < reference.size(); ++i) {
+      evaluation.reference_kept[i] = to_observed[i] <= options.observed_radius_m;
+    }
+  }
+  std::vector<Eigen::Vector3d> kept_reference;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    if (evaluation.reference_kept[i]) {
+      kept_reference.push_back(reference[i]);
+    }
+  }
+  evaluation.num_reference_points_kept = kept_reference.size();
+  if (kept_reference.empty()) {
+    LOG(WARNING) << "No reference point lies within "
+                 << options.observed_radius_m
+                 << " m of the observed cloud; recall is 0";
+  }
+
+  // Precision crop box around the kept reference.
+  evaluation.estimate_in_crop.assign(evaluation.estimate_points.size(), true);
+  if (!kept_reference.empty()) {
+    evaluation.crop_min = kept_reference.front();
+    evaluation.crop_max = kept_reference.front();
+    for (const Eigen::Vector3d& point : kept_reference) {
+      evaluation.crop_min = evaluation.crop_min.cwiseMin(point);
+      evaluation.crop_max = evaluation.crop_max.cwiseMax(point);
+    }
+    evaluation.crop_min.array() -= options.crop_margin_m;
+    evaluation.crop_max.array() += options.crop_margin_m;
+    if (options.crop_margin_m >= 0.0) {
+      for (size_t i = 0; i < evaluation.estimate_points.size(); ++i) {
+        const Eigen::Vector3d& point = evaluation.estimate_points[i];
+        evaluation.estimate_in_crop[i] =
+            (point.array() >= evaluation.crop_min.array()).all() &&
+            (point.array() <= evaluation.crop_max.array()).all();
+      }
+    }
+  }
+
+  // Precision side: estimate points -> full reference.
+  const PointCloudIndex reference_index(reference);
+  evaluation.estimate_distances =
+      reference_index.NearestDistances(evaluation.estimate_points);
+  std::vector<double> accuracy;
+  for (size_t i = 0; i < evaluation.estimate_points.size(); ++i) {
+    if (evaluation.estimate_in_crop[i]) {
+      accuracy.push_back(evaluation.estimate_distances[i]);
+    }
+  }
+  evaluation.num_estimate_points_in_crop = accuracy.size();
+  if (accuracy.empty()) {
+    LOG(WARNING) << "No estimate point lies in the crop box of the "
+                    "reference; precision is 0";
+  }
+
+  // Recall side: reference points -> estimate.
+  if (evaluation.estimate_is_mesh && options.recall_to_mesh) {
+    const TriangleMeshIndex mesh_index(estimate_vertices, triangles);
+    evaluation.reference_distances = mesh_index.NearestDistances(reference);
+  } else {
+    const PointCloudIndex estimate_index(evaluation.estimate_points);
+    evaluation.reference_distances =
+        estimate_index.NearestDistances(reference);
+  }
+  std::vector<double> completeness;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    if (evaluation.reference_kept[i]) {
+      completeness.push_back(evaluation.reference_distances[i]);
+    }
+  }
+
+  evaluation.accuracy_m = ComputeErrorStats(accuracy);
+  evaluation.completeness_m = ComputeErrorStats(completeness);
+  for (const double t : options.thresholds_m) {
+    const double precision = ShareBelow(accuracy, t);
+    const double recall = ShareBelow(completeness, t);
+    evaluation.precisions.push_back(precision);
+    evaluation.recalls.push_back(recall);
+    evaluation.fscores.push_back(FScore(precision, recall));
+  }
+  LOG(INFO) << "Mesh evaluation: " << accuracy.size()
+            << " estimate points in the crop, " << completeness.size()
+            << " reference points kept, accuracy (mean) "
+            << evaluation.accuracy_m.mean << " m, completeness (mean) "
+            << evaluation.completeness_m.mean << " m";
+  return evaluation;
+}
+
+MeshEvaluation EvaluateMeshFiles(const std::string& estimate_path,
+                                 const std::string& reference_path,
+                                 const MeshEvaluationOptions& options) {
+  THROW_CHECK(options.Check(), "Invalid MeshEvaluation options");
+  CheckFileExists(estimate_path, "Estimate mesh or point cloud");
+  const PlyData estimate = ReadPly(estimate_path);
+  THROW_CHECK(estimate.NumVertices() > 0,
+              "Estimate " << estimate_path
+                          << " has no vertices (and hence no faces)");
+  const std::vector<Eigen::Vector3d> vertices =
+      estimate.Positions(estimate_path);
+  CheckFinite(vertices, "Estimate " + estimate_path);
+  const std::vector<Eigen::Vector3i> triangles = TriangulatePolygons(
+      estimate.faces, vertices.size(), estimate_path);
+  if (!estimate.faces.empty() && triangles.empty()) {
+    LOG(WARNING) << estimate_path
+                 << " has faces but none with 3 or more vertices; using its "
+                    "vertices as a point cloud";
+  }
+  const std::vector<Eigen::Vector3d> reference =
+      ReadPlyPositions(reference_path, "Reference cloud");
+  std::vector<Eigen::Vector3d> observed;
+  if (!options.observed_cloud_path.empty()) {
+    observed = ReadPlyPositions(options.observed_cloud_path,
+                                "MeshEvaluation.observed_cloud_path");
+  }
+  LOG(INFO) << "Evaluating " << estimate_path << " (" << vertices.size()
+            << " vertices, " << triangles.size() << " triangles) against "
+            << reference_path << " (" << reference.size() << " points)";
+  return EvaluateMesh(vertices, triangles, reference, observed, options);
+}
+
+std::string FormatMeshEvaluation(const MeshEvaluation& evaluation) {
+  std::ostringstream out;
+  char line[256];
+  if (evaluation.estimate_is_mesh) {
+    std::snprintf(line, sizeof(line),
+                  "Mesh evaluation: %zu triangles, %.6g m2, %zu samples "
+                  "(%zu in the crop box)\n",
+                  evaluation.num_estimate_triangles,
+                  evaluation.estimate_area_m2,
+                  evaluation.estimate_points.size(),
+                  evaluation.num_estimate_points_in_crop);
+  } else {
+    std::snprintf(line, sizeof(line),
+                  "Point cloud evaluation: %zu points (%zu in the crop "
+                  "box)\n",
+                  evaluation.estimate_points.size(),
+                  evaluation.num_estimate_points_in_crop);
+  }
+  out << line;
+  std::snprintf(line, sizeof(line),
+                "  reference: %zu points, %zu kept (observed)\n",
+                evaluation.reference_points.size(),
+                evaluation.num_reference_points_kept);
+  out << line;
+  std::snprintf(line, sizeof(line), "  %-16s %12s %12s %12s %12s\n",
+                "distance [m]", "mean", "median", "rmse", "max");
+  out << line;
+  const ErrorStats& a = evaluation.accuracy_m;
+  const ErrorStats& c = evaluation.completeness_m;
+  std::snprintf(line, sizeof(line), "  %-16s %12.6f %12.6f %12.6f %12.6f\n",
+                "accuracy", a.mean, a.median, a.rmse, a.max);
+  out << line;
+  std::snprintf(line, sizeof(line), "  %-16s %12.6f %12.6f %12.6f %12.6f\n",
+                "completeness", c.mean, c.median, c.rmse, c.max);
+  out << line;
+  std::snprintf(line, sizeof(line), "  %14s %10s %10s %10s\n",
+                "threshold [m]", "precision", "recall", "F-score");
+  out << line;
+  for (size_t k = 0; k < evaluation.thresholds_m.size(); ++k) {
+    std::snprintf(line, sizeof(line), "  %14g %10.4f %10.4f %10.4f\n",
+                  evaluation.thresholds_m[k], evaluation.precisions[k],
+                  evaluation.recalls[k], evaluation.fscores[k]);
+    out << line;
+  }
+  return out.str();
+}
+
+namespace {
+
+void WriteStatsJson(JsonWriter* json, const std::string& key,
+                    const ErrorStats& stats) {
+  json->Key(key);
+  json->BeginObject();
+  json->Field("count", static_cast<uint64_t>(stats.count));
+  json->Field("mean", stats.mean);
+  json->Field("median", stats.median);
+  json->Field("rmse", stats.rmse);
+  json->Field("max", stats.max);
+  json->EndObject();
+}
+
+}  // namespace
+
+void WriteMeshEvaluationJson(const std::string& path,
+                             const MeshEvaluation& evaluation) {
+  WriteFileAtomically(
+      path,
+      [&evaluation](std::ostream& stream) {
+        JsonWriter json(&stream);
+        json.BeginObject();
+        json.Field("evaluator", "mesh");
+        json.Field("estimate_is_mesh", evaluation.estimate_is_mesh);
+        json.Field("estimate_area_m2", evaluation.estimate_area_m2);
+        json.Field("num_estimate_vertices",
+                   static_cast<uint64_t>(evaluation.num_estimate_vertices));
+        json.Field("num_estimate_triangles",
+                   static_cast<uint64_t>(evaluation.num_estimate_triangles));
+        json.Field("num_estimate_points",
+                   static_cast<uint64_t>(evaluation.estimate_points.size()));
+        json.Field(
+            "num_estimate_points_in_crop",
+            static_cast<uint64_t>(evaluation.num_estimate_points_in_crop));
+        json.Field("num_reference_points",
+                   static_cast<uint64_t>(evaluation.reference_points.size()));
+        json.Field(
+            "num_reference_points_kept",
+            static_cast<uint64_t>(evaluation.num_reference_points_kept));
+        json.Key("crop_min");
+        json.Array({evaluation.crop_min.x(), evaluation.crop_min.y(),
+                    evaluation.crop_min.z()});
+        json.Key("crop_max");
+        json.Array({evaluation.crop_max.x(), evaluation.crop_max.y(),
+                    evaluation.crop_max.z()});
+        WriteStatsJson(&json, "accuracy_m", evaluation.accuracy_m);
+        WriteStatsJson(&json, "completeness_m", evaluation.completeness_m);
+        json.Key("thresholds_m");
+        json.Array(evaluation.thresholds_m);
+        json.Key("precision");
+        json.Array(evaluation.precisions);
+        json.Key("recall");
+        json.Array(evaluation.recalls);
+        json.Key("fscore");
+        json.Array(evaluation.fscores);
+        json.Field("color_threshold_m", evaluation.color_threshold_m);
+        json.EndObject();
+      },
+      /*binary=*/false);
+}
+
+void WritePrecisionColoredPly(const std::string& path,
+                              const MeshEvaluation& evaluation) {
+  WriteDistanceColoredPly(path, evaluation.estimate_points,
+                          evaluation.estimate_distances,
+                          evaluation.estimate_in_crop,
+                          evaluation.color_threshold_m);
+}
+
+void WriteRecallColoredPly(const std::string& path,
+                           const MeshEvaluation& evaluation) {
+  WriteDistanceColoredPly(path, evaluation.reference_points,
+                          evaluation.reference_distances,
+                          evaluation.reference_kept,
+                          evaluation.color_threshold_m);
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,125 @@
+// Surface accuracy and completeness of a reconstructed mesh (or point
+// cloud) against a reference point cloud, as in Knapitsch et al. 2017
+// ("Tanks and Temples", Sec. 4) and Li et al. 2023 (Neuralangelo):
+//   precision(t) = share of estimate points whose distance to the nearest
+//                  reference point is < t;
+//   recall(t)    = share of (kept) reference points whose distance to the
+//                  estimate is < t;
+//   F(t)         = 2 P R / (P + R).
+// Estimate points are uniform area-weighted samples of the mesh triangles
+// (sample_density_per_m2, seeded) or, for a PLY without faces, its
+// vertices. "Distance to the estimate" is the exact point-to-triangle
+// distance to the mesh surface (CloudCompare's cloud-to-mesh distance, the
+// dense-sampling limit of Tanks and Temples) when the estimate has faces and
+// recall_to_mesh is set, else the distance to the nearest estimate point.
+//
+// Reference selection (recall): with observed_cloud_path, reference points
+// farther than observed_radius_m from every observed point (e.g. the
+// registered LIDAR + camera points) are dropped, since no method can
+// recover what no sensor saw.
+// Estimate selection (precision): estimate points outside the axis-aligned
+// bounding box of the kept reference points enlarged by crop_margin_m on
+// every side are ignored (surfaces beyond the surveyed area cannot be
+// judged); crop_margin_m < 0 disables the crop. Precision distances are
+// taken to the full reference, kept or not: correct geometry is correct
+// even where the sensors did not look.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "src/eval/eval_stats.h"
+
+namespace colmap_lidar {
+
+struct MeshEvaluationOptions {
+  // Distance thresholds t in metres; positive and strictly increasing.
+  std::vector<double> thresholds_m = {0.02, 0.05, 0.1, 0.2, 0.5};
+  // Samples per square metre of mesh surface for precision (> 0).
+  double sample_density_per_m2 = 1000.0;
+  // Recall distances to the mesh surface itself (exact) instead of to the
+  // samples; ignored for a point-cloud estimate.
+  bool recall_to_mesh = true;
+  // Optional PLY of what the sensors observed; empty: keep all reference
+  // points.
+  std::string observed_cloud_path = "";
+  // Reference points farther than this from the observed cloud are dropped
+  // (metres, > 0).
+  double observed_radius_m = 0.2;
+  // Margin of the precision crop box around the kept reference (metres);
+  // negative disables the crop.
+  double crop_margin_m = 0.5;
+  // Distance shown red in the coloured PLYs (metres); 0 picks the largest
+  // threshold <= 0.1 m, or the smallest threshold when all exceed 0.1 m.
+  double color_threshold_m = 0.0;
+  // Seed of the mesh sampling.
+  int seed = 0;
+
+  bool Check() const;
+  // color_threshold_m resolved as documented above.
+  double ColorThreshold() const;
+};
+
+struct MeshEvaluation {
+  bool estimate_is_mesh = false;
+  double estimate_area_m2 = 0.0;
+  size_t num_estimate_vertices = 0;
+  size_t num_estimate_triangles = 0;
+  // Estimate points (mesh samples or cloud points) and their distance to
+  // the nearest reference point; in_crop marks the ones counted.
+  std::vector<Eigen::Vector3d> estimate_points;
+  std::vector<double> estimate_distances;
+  std::vector<bool> estimate_in_crop;
+  size_t num_estimate_points_in_crop = 0;
+
+  // Reference points and their distance to the estimate; kept marks the
+  // ones counted for recall (observed).
+  std::vector<Eigen::Vector3d> reference_points;
+  std::vector<double> reference_distances;
+  std::vector<bool> reference_kept;
+  size_t num_reference_points_kept = 0;
+  Eigen::Vector3d crop_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d crop_max = Eigen::Vector3d::Zero();
+
+  std::vector<double> thresholds_m;
+  std::vector<double> precisions;
+  std::vector<double> recalls;
+  std::vector<double> fscores;
+  // Accuracy: estimate -> reference distances (in crop). Completeness:
+  // reference (kept) -> estimate distances.
+  ErrorStats accuracy_m;
+  ErrorStats completeness_m;
+  double color_threshold_m = 0.1;
+};
+
+// Evaluates in-memory data. `triangles` empty means a point-cloud estimate
+// given by `estimate_vertices`. Throws colmap_lidar::Error on invalid
+// options, an empty estimate or reference, or non-finite coordinates.
+MeshEvaluation EvaluateMesh(const std::vector<Eigen::Vector3d>& estimate_vertices,
+                            const std::vector<Eigen::Vector3i>& triangles,
+                            const std::vector<Eigen::Vector3d>& reference,
+                            const std::vector<Eigen::Vector3d>& observed,
+                            const MeshEvaluationOptions& options);
+
+// Reads the PLYs (estimate mesh or cloud, reference cloud and, if set,
+// options.observed_cloud_path) and evaluates. Errors name the file.
+MeshEvaluation EvaluateMeshFiles(const std::string& estimate_path,
+                                 const std::string& reference_path,
+                                 const MeshEvaluationOptions& options);
+
+std::string FormatMeshEvaluation(const MeshEvaluation& evaluation);
+void WriteMeshEvaluationJson(const std::string& path,
+                             const MeshEvaluation& evaluation);
+// Estimate points coloured by their distance to the reference (precision
+// view; points outside the crop grey).
+void WritePrecisionColoredPly(const std::string& path,
+                              const MeshEvaluation& evaluation);
+// Reference points coloured by their distance to the estimate (recall
+// view; unobserved points grey).
+void WriteRecallColoredPly(const std::string& path,
+                           const MeshEvaluation& evaluation);
+
+}  // namespace colmap_lidar

@@ -1,0 +1,346 @@
+#include "src/eval/mesh_evaluator.h"
+
+#include <cmath>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
+#include "colmap_ext/util/testing.h"
+
+namespace colmap_lidar {
+namespace {
+
+struct Mesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+
+  void AddQuad(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+               const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+    const int base = vertices.size();
+    vertices.insert(vertices.end(), {a, b, c, d});
+    triangles.emplace_back(base, base + 1, base + 2);
+    triangles.emplace_back(base, base + 2, base + 3);
+  }
+};
+
+// The axis-aligned unit cube [0,1]^3 shifted by `offset`.
+Mesh Cube(const Eigen::Vector3d& offset = Eigen::Vector3d::Zero()) {
+  Mesh mesh;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3;
+    const int v = (axis + 2) % 3;
+    for (const double side : {0.0, 1.0}) {
+      Eigen::Vector3d corners[4];
+      const double uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+      for (int k = 0; k < 4; ++k) {
+        corners[k][axis] = side;
+        corners[k][u] = uv[k][0];
+        corners[k][v] = uv[k][1];
+        corners[k] += offset;
+      }
+      mesh.AddQuad(corners[0], corners[1], corners[2], corners[3]);
+    }
+  }
+  return mesh;
+}
+
+// Cell-centred grid points (spacing 1/n) on the square [x0,x0+1]x[y0,y0+1]
+// at height z.
+std::vector<Eigen::Vector3d> SquareGrid(double x0, double y0, double z,
+                                        int n = 200) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      points.emplace_back(x0 + (i + 0.5) / n, y0 + (j + 0.5) / n, z);
+    }
+  }
+  return points;
+}
+
+// Cell-centred grid points on the six faces of the unit cube.
+std::vector<Eigen::Vector3d> CubeGrid(int n = 200) {
+  std::vector<Eigen::Vector3d> points;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double side : {0.0, 1.0}) {
+      for (const Eigen::Vector3d& p : SquareGrid(0, 0, 0, n)) {
+        Eigen::Vector3d point;
+        point[axis] = side;
+        point[(axis + 1) % 3] = p.x();
+        point[(axis + 2) % 3] = p.y();
+        points.push_back(point);
+      }
+    }
+  }
+  return points;
+}
+
+Mesh UnitSquare(double x0 = 0.0, double y0 = 0.0) {
+  Mesh mesh;
+  mesh.AddQuad({x0, y0, 0}, {x0 + 1, y0, 0}, {x0 + 1, y0 + 1, 0},
+               {x0, y0 + 1, 0});
+  return mesh;
+}
+
+TEST(MeshEvaluator, CubeAgainstItsSamplingIsPerfect) {
+  const Mesh cube = Cube();
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.005, 0.01};
+  const MeshEvaluation evaluation =
+      EvaluateMesh(cube.vertices, cube.triangles, CubeGrid(), {}, options);
+  EXPECT_TRUE(evaluation.estimate_is_mesh);
+  EXPECT_NEAR(evaluation.estimate_area_m2, 6.0, 1e-12);
+  EXPECT_EQ(evaluation.estimate_points.size(), 6000u);
+  EXPECT_EQ(evaluation.num_estimate_points_in_crop, 6000u);
+  // Grid spacing 5 mm: samples are at most 3.6 mm from a grid point.
+  EXPECT_DOUBLE_EQ(evaluation.precisions[1], 1.0);
+  EXPECT_DOUBLE_EQ(evaluation.recalls[1], 1.0);
+  EXPECT_DOUBLE_EQ(evaluation.fscores[1], 1.0);
+  EXPECT_LT(evaluation.accuracy_m.max, 0.0036);
+  // Reference points lie on the mesh: exact zero distance.
+  EXPECT_LT(evaluation.completeness_m.max, 1e-12);
+}
+
+// A unit square at z = 0 against a reference plane at z = 0.03: every
+// distance is 0.03 (plus < 3.6 mm in-plane for the grid), so precision and
+// recall are 0 at 0.02 and 1 at 0.05.
+TEST(MeshEvaluator, PlaneShiftedByThreeCentimetres) {
+  const Mesh square = UnitSquare();
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.02, 0.05};
+  for (const bool recall_to_mesh : {true, false}) {
+    options.recall_to_mesh = recall_to_mesh;
+    // Dense sampling so that sample-based recall sees no holes > 4 cm.
+    options.sample_density_per_m2 = 20000;
+    const MeshEvaluation evaluation = EvaluateMesh(
+        square.vertices, square.triangles, SquareGrid(0, 0, 0.03), {}, options);
+    EXPECT_DOUBLE_EQ(evaluation.precisions[0], 0.0);
+    EXPECT_DOUBLE_EQ(evaluation.recalls[0], 0.0);
+    EXPECT_DOUBLE_EQ(evaluation.fscores[0], 0.0);
+    EXPECT_DOUBLE_EQ(evaluation.precisions[1], 1.0);
+    EXPECT_DOUBLE_EQ(evaluation.recalls[1], 1.0);
+    EXPECT_NEAR(evaluation.accuracy_m.median, 0.03, 0.001);
+    if (recall_to_mesh) {
+      EXPECT_NEAR(evaluation.completeness_m.max, 0.03, 1e-12);
+      EXPECT_NEAR(evaluation.completeness_m.mean, 0.03, 1e-12);
+    }
+  }
+}
+
+// The unit cube shifted by 0.05 m along x against the unit cube's grid.
+// Precision at t < 0.05: the face x = 0.05 is within t of the reference's
+// side faces where min(y, 1-y, z, 1-z) < t, share 1 - (1-2t)^2; the face
+// x = 1.05 is 0.05 away; the four side faces are on the reference for
+// x <= 1 and x - 1 away beyond, share 0.95 + t. By symmetry recall is the
+// same. At t = 0.1 everything is within.
+TEST(MeshEvaluator, CubeShiftedAlongX) {
+  const Mesh cube = Cube(Eigen::Vector3d(0.05, 0, 0));
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.02, 0.1};
+  options.sample_density_per_m2 = 5000;
+  const MeshEvaluation evaluation =
+      EvaluateMesh(cube.vertices, cube.triangles, CubeGrid(), {}, options);
+  const double t = 0.02;
+  const double expected =
+      ((1.0 - (1 - 2 * t) * (1 - 2 * t)) + 0.0 + 4 * (0.95 + t)) / 6.0;
+  EXPECT_NEAR(evaluation.precisions[0], expected, 0.01);
+  EXPECT_NEAR(evaluation.recalls[0], expected, 0.01);
+  EXPECT_DOUBLE_EQ(evaluation.precisions[1], 1.0);
+  EXPECT_DOUBLE_EQ(evaluation.recalls[1], 1.0);
+}
+
+// Reference: patches A ([0,1]^2) and B ([5,6]x[0,1]) at z = 0. Estimate: a
+// mesh of A and of a far patch C ([20,21]x[0,1]).
+TEST(MeshEvaluator, ObservedCloudAndCropBox) {
+  Mesh estimate = UnitSquare(0, 0);
+  const Mesh far_patch = UnitSquare(20, 0);
+  for (const Eigen::Vector3i& triangle : far_patch.triangles) {
+    estimate.triangles.push_back(triangle +
+                                 Eigen::Vector3i::Constant(4));
+  }
+  estimate.vertices.insert(estimate.vertices.end(),
+                           far_patch.vertices.begin(),
+                           far_patch.vertices.end());
+  std::vector<Eigen::Vector3d> reference = SquareGrid(0, 0, 0, 100);
+  const std::vector<Eigen::Vector3d> patch_b = SquareGrid(5, 0, 0, 100);
+  reference.insert(reference.end(), patch_b.begin(), patch_b.end());
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.02};
+
+  // All reference kept: half of it (B) is missed. C is outside the crop
+  // box [-0.5, 6.5] x [-0.5, 1.5] x [-0.5, 0.5], so precision stays 1.
+  MeshEvaluation evaluation = EvaluateMesh(
+      estimate.vertices, estimate.triangles, reference, {}, options);
+  EXPECT_EQ(evaluation.num_reference_points_kept, 20000u);
+  EXPECT_NEAR(evaluation.recalls[0], 0.5, 1e-12);
+  // 2000 samples drawn area-weighted from two unit squares: about half in A.
+  ASSERT_EQ(evaluation.estimate_points.size(), 2000u);
+  const double share_in_a = evaluation.num_estimate_points_in_crop / 2000.0;
+  EXPECT_NEAR(share_in_a, 0.5, 0.05);
+  EXPECT_DOUBLE_EQ(evaluation.precisions[0], 1.0);
+  EXPECT_NEAR(evaluation.crop_max.x(), 6.5 - 0.005, 1e-12);
+
+  // Without the crop, C counts against precision.
+  options.crop_margin_m = -1.0;
+  evaluation = EvaluateMesh(estimate.vertices, estimate.triangles, reference,
+                            {}, options);
+  EXPECT_EQ(evaluation.num_estimate_points_in_crop, 2000u);
+  EXPECT_NEAR(evaluation.precisions[0], share_in_a, 1e-12);
+
+  // The sensors only saw A (a coarse cloud 10 cm above it): B is dropped.
+  options.crop_margin_m = 0.5;
+  std::vector<Eigen::Vector3d> observed = SquareGrid(0, 0, 0.1, 10);
+  evaluation = EvaluateMesh(estimate.vertices, estimate.triangles, reference,
+                            observed, options);
+  EXPECT_EQ(evaluation.num_reference_points_kept, 10000u);
+  EXPECT_DOUBLE_EQ(evaluation.recalls[0], 1.0);
+  for (size_t i = 0; i < reference.size(); ++i) {
+    EXPECT_EQ(evaluation.reference_kept[i], reference[i].x() < 2.0);
+  }
+  EXPECT_DOUBLE_EQ(evaluation.precisions[0], 1.0);
+  EXPECT_NEAR(evaluation.crop_max.x(), 1.5 - 0.005, 1e-12);
+}
+
+TEST(MeshEvaluator, PointCloudEstimateAndColouredPly) {
+  const std::vector<Eigen::Vector3d> reference = {{0, 0, 0}, {1, 0, 0}};
+  // On a reference point, 0.05 away, 1 m away.
+  const std::vector<Eigen::Vector3d> estimate = {
+      {0, 0, 0}, {1, 0.05, 0}, {0, 0, 1}};
+  MeshEvaluationOptions options;
+  options.crop_margin_m = 2.0;
+  EXPECT_DOUBLE_EQ(options.ColorThreshold(), 0.1);
+  const MeshEvaluation evaluation =
+      EvaluateMesh(estimate, {}, reference, {}, options);
+  EXPECT_FALSE(evaluation.estimate_is_mesh);
+  EXPECT_EQ(evaluation.estimate_points.size(), 3u);
+  // Thresholds 0.02, 0.05, 0.1, 0.2, 0.5.
+  EXPECT_NEAR(evaluation.precisions[0], 1 / 3.0, 1e-12);
+  EXPECT_NEAR(evaluation.precisions[1], 1 / 3.0, 1e-12);  // 0.05 is not < 0.05
+  EXPECT_NEAR(evaluation.precisions[2], 2 / 3.0, 1e-12);
+  EXPECT_NEAR(evaluation.recalls[0], 0.5, 1e-12);
+  EXPECT_NEAR(evaluation.recalls[2], 1.0, 1e-12);
+  EXPECT_NEAR(evaluation.fscores[2], 2 * (2 / 3.0) / (2 / 3.0 + 1), 1e-12);
+
+  const std::string dir = testing::CreateTestDir();
+  const std::string path = JoinPaths(dir, "colored.ply");
+  WritePrecisionColoredPly(path, evaluation);
+  const PlyData data = ReadPly(path);
+  ASSERT_EQ(data.NumVertices(), 3u);
+  const PlyColumn* red = data.FindColumn("red");
+  const PlyColumn* green = data.FindColumn("green");
+  const PlyColumn* blue = data.FindColumn("blue");
+  const PlyColumn* distance = data.FindColumn("distance");
+  ASSERT_TRUE(red && green && blue && distance);
+  // Distance 0: blue.
+  EXPECT_EQ(red->values[0], 0);
+  EXPECT_EQ(green->values[0], 0);
+  EXPECT_EQ(blue->values[0], 255);
+  // Distance 0.05 of 0.1: halfway from green (1/3) to yellow (2/3).
+  EXPECT_EQ(red->values[1], 128);
+  EXPECT_EQ(green->values[1], 255);
+  EXPECT_EQ(blue->values[1], 0);
+  // Distance 1 > 0.1: red.
+  EXPECT_EQ(red->values[2], 255);
+  EXPECT_EQ(green->values[2], 0);
+  EXPECT_EQ(blue->values[2], 0);
+  EXPECT_NEAR(distance->values[2], 1.0, 1e-12);
+
+  const std::string recall_path = JoinPaths(dir, "recall.ply");
+  WriteRecallColoredPly(recall_path, evaluation);
+  EXPECT_EQ(ReadPly(recall_path).NumVertices(), 2u);
+
+  const std::string json_path = JoinPaths(dir, "mesh.json");
+  WriteMeshEvaluationJson(json_path, evaluation);
+  const std::string json = ReadTextFile(json_path);
+  EXPECT_NE(json.find("\"thresholds_m\": [0.02, 0.05, 0.1, 0.2, 0.5]"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"recall\": [0.5, 0.5, 1, 1, 1]"), std::string::npos)
+      << json;
+  const std::string table = FormatMeshEvaluation(evaluation);
+  EXPECT_NE(table.find("precision"), std::string::npos) << table;
+}
+
+void WritePoints(const std::string& path,
+                 const std::vector<Eigen::Vector3d>& points,
+                 const std::vector<std::vector<uint32_t>>& faces = {}) {
+  std::vector<double> x, y, z;
+  for (const Eigen::Vector3d& p : points) {
+    x.push_back(p.x());
+    y.push_back(p.y());
+    z.push_back(p.z());
+  }
+  PlyData data;
+  data.AddColumn("x", PlyScalarType::kFloat64, x);
+  data.AddColumn("y", PlyScalarType::kFloat64, y);
+  data.AddColumn("z", PlyScalarType::kFloat64, z);
+  data.faces = faces;
+  WritePly(path, data);
+}
+
+std::string ErrorOf(const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(MeshEvaluator, FilesAndErrors) {
+  const std::string dir = testing::CreateTestDir();
+  const std::string mesh_path = JoinPaths(dir, "mesh.ply");
+  const std::string reference_path = JoinPaths(dir, "reference.ply");
+  const std::string empty_path = JoinPaths(dir, "empty.ply");
+  const std::string nan_path = JoinPaths(dir, "nan.ply");
+  WritePoints(mesh_path, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},
+              {{0, 1, 2, 3}});
+  WritePoints(reference_path, SquareGrid(0, 0, 0.03, 50));
+  WritePoints(empty_path, {});
+  WritePoints(nan_path, {{0, 0, 0}, {NAN, 0, 0}});
+
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.02, 0.05};
+  const MeshEvaluation evaluation =
+      EvaluateMeshFiles(mesh_path, reference_path, options);
+  EXPECT_TRUE(evaluation.estimate_is_mesh);
+  EXPECT_EQ(evaluation.num_estimate_triangles, 2u);  // Quad split in two.
+  EXPECT_DOUBLE_EQ(evaluation.recalls[1], 1.0);
+  EXPECT_DOUBLE_EQ(evaluation.recalls[0], 0.0);
+
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(JoinPaths(dir, "missing.ply"), reference_path,
+                                options);
+            }).find("missing.ply"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(mesh_path, empty_path, options);
+            }).find("empty.ply has no vertices"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(empty_path, reference_path, options);
+            }).find("empty.ply"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(mesh_path, nan_path, options);
+            }).find("non-finite"),
+            std::string::npos);
+  options.observed_cloud_path = JoinPaths(dir, "no_observed.ply");
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(mesh_path, reference_path, options);
+            }).find("no_observed.ply"),
+            std::string::npos);
+  options = MeshEvaluationOptions();
+  options.thresholds_m = {0.05, 0.02};
+  EXPECT_FALSE(options.Check());
+  options.thresholds_m = {-0.01};
+  EXPECT_FALSE(options.Check());
+  options = MeshEvaluationOptions();
+  options.sample_density_per_m2 = 0;
+  EXPECT_FALSE(options.Check());
+}
+
+}  // namespace
+}  // namespace colmap_lidar

@@ -1,0 +1,34 @@
+// Uniform, area-weighted point sampling of a triangle mesh, used to turn an
+// estimated mesh into the point set whose precision is evaluated
+// (Knapitsch et al. 2017, "Tanks and Temples", Sec. 4: reconstructions are
+// compared as point sets).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace colmap_lidar {
+
+// Splits polygons into triangles by a fan around their first vertex;
+// polygons with fewer than 3 vertices are skipped. Throws
+// colmap_lidar::Error naming `path_for_errors` when an index is out of range.
+std::vector<Eigen::Vector3i> TriangulatePolygons(
+    const std::vector<std::vector<uint32_t>>& polygons, size_t num_vertices,
+    const std::string& path_for_errors = "");
+
+double TriangleMeshArea(const std::vector<Eigen::Vector3d>& vertices,
+                        const std::vector<Eigen::Vector3i>& triangles);
+
+// Draws round(area * density_per_m2) points (at least 1 when the area is
+// positive, none for a zero-area mesh): a triangle is chosen with
+// probability proportional to its area, then a point uniformly inside it
+// (barycentric square-root method). Deterministic for a given seed.
+std::vector<Eigen::Vector3d> SampleTriangleMesh(
+    const std::vector<Eigen::Vector3d>& vertices,
+    const std::vector<Eigen::Vector3i>& triangles, double density_per_m2,
+    uint64_t seed);
+
+}  // namespace colmap_lidar

@@ -1,0 +1,99 @@
+// Camera pose accuracy of a sparse model against ground-truth poses, in the
+// manner of evo's APE (Grupp 2017) with Umeyama alignment (Umeyama 1991):
+// the estimated camera centres are aligned to the ground-truth centres by a
+// similarity (sim3), a rigid transform (se3) or not at all (none); then, per
+// matched image,
+//   position error  = |s R c_est + t - c_gt|                       (metres)
+//   rotation error  = angle of R_est_aligned^T R_gt                (degrees)
+// where c are camera centres, R_est_aligned = R * R_est the aligned
+// world_from_cam rotation and R_gt the ground-truth world_from_cam rotation.
+//
+// Matching: an image matches the ground-truth frame whose name equals the
+// image name, else the frame equal to the stem of the image's file name
+// ("cam/000042.png" <-> "000042"). Ground-truth frames without an image are
+// "missing"; images without a frame are ignored (counted).
+//
+// Recalls are shares of ALL ground-truth frames (a missing frame counts as
+// a failure), so a model that registers half the frames perfectly has
+// recall 0.5: position recall at t = #(position error < t) / #GT frames,
+// rotation recall likewise, and the paired recall at (t_pos[k], t_rot[k])
+// requires both (when both lists have the same length).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "colmap_ext/scene/reconstruction.h"
+#include "src/dataset/poses.h"
+#include "src/eval/eval_stats.h"
+
+namespace colmap_lidar {
+
+struct PoseEvaluationOptions {
+  // Alignment of the estimate to the ground truth before measuring: none |
+  // se3 (rotation + translation) | sim3 (plus a uniform scale), estimated
+  // by Umeyama on the camera centres of the matched images.
+  std::string alignment = "sim3";
+  // Position error thresholds in metres for the recalls; positive and
+  // strictly increasing.
+  std::vector<double> position_thresholds_m = {0.02, 0.05, 0.2, 0.5};
+  // Rotation error thresholds in degrees; positive and strictly increasing.
+  std::vector<double> rotation_thresholds_deg = {0.5, 1, 5, 10};
+
+  bool Check() const;
+};
+
+struct ImagePoseError {
+  std::string image_name;
+  std::string frame;
+  double position_error_m = 0.0;
+  double rotation_error_deg = 0.0;
+};
+
+struct PoseEvaluation {
+  std::string alignment;
+  // The applied alignment x_gt ~ scale * rotation * x_est + translation
+  // (identity for "none"; scale 1 for "se3").
+  double scale = 1.0;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+
+  size_t num_ground_truth_frames = 0;
+  size_t num_model_images = 0;
+  size_t num_matched = 0;
+  // Ground-truth frames with no image in the model.
+  size_t num_missing = 0;
+  std::vector<std::string> missing_frames;
+  // Model images with no ground-truth frame (ignored).
+  size_t num_unmatched_images = 0;
+
+  // Per matched image, in model file order.
+  std::vector<ImagePoseError> errors;
+  ErrorStats position_stats_m;
+  ErrorStats rotation_stats_deg;
+
+  std::vector<double> position_thresholds_m;
+  std::vector<double> position_recalls;
+  std::vector<double> rotation_thresholds_deg;
+  std::vector<double> rotation_recalls;
+  // Both errors below (position_thresholds_m[k], rotation_thresholds_deg[k]);
+  // empty when the two lists differ in length.
+  std::vector<double> pose_recalls;
+};
+
+// Throws colmap_lidar::Error when the options are invalid, or when se3/sim3
+// alignment has fewer than 3 matched images (naming the counts), or when
+// the matched centres are degenerate (all identical).
+PoseEvaluation EvaluatePoses(const Reconstruction& estimate,
+                             const std::vector<FramePose>& ground_truth,
+                             const PoseEvaluationOptions& options);
+
+// Fixed-width summary table.
+std::string FormatPoseEvaluation(const PoseEvaluation& evaluation);
+// JSON report (see json_writer.h), written atomically; throws naming path.
+void WritePoseEvaluationJson(const std::string& path,
+                             const PoseEvaluation& evaluation);
+
+}  // namespace colmap_lidar

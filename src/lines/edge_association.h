@@ -1,0 +1,93 @@
+// Lifting 2D line segments to 3D with LIDAR edge points (section III-B):
+//  1. edge points that the camera sees (ProjectScan's z-buffer) are matched
+//     to a 2D segment when their pixel lies within max_point_distance_px of
+//     the segment and within its extent (plus the same margin);
+//  2. RANSAC fits a 3D line to the matched points; only inliers are kept,
+//     and they must cover min_inlier_coverage of the segment; the line is
+//     refitted to the inliers within the segment's viewing plane;
+//  3. the 3D line is reprojected and compared with the 2D segment: angle
+//     and the distances of the segment's endpoints to the reprojected line;
+//  4. the 3D endpoints are the back-projections of the 2D endpoints onto
+//     the 3D line (the closest point of the line to each viewing ray);
+//  5. texture-only lines (texture_rejection.h) are discarded.
+// Everything is in the camera frame of the view.
+#pragma once
+
+#include <vector>
+
+#include "colmap_ext/scene/camera.h"
+#include "src/lines/lidar_edges.h"
+#include "src/lines/line_ransac.h"
+#include "src/lines/line_types.h"
+#include "src/lines/scan_projection.h"
+#include "src/lines/texture_rejection.h"
+
+namespace colmap_lidar {
+
+struct EdgeAssociationOptions {
+  // An edge point joins a segment within this pixel distance.
+  double max_point_distance_px = 6.0;
+  LineRansacOptions ransac;
+  // Move each edge point along its ring to where the ring crosses the 2D
+  // segment's viewing plane (linear interpolation between two ring
+  // neighbours on one surface): the crease point of that ring, more precise
+  // than the nearest LIDAR sample (one azimuth step is 6 cm at 10 m). Needs
+  // ring neighbours (ring edge method); across a range jump the nearer
+  // point is kept.
+  bool refine_along_rings = true;
+  // Search at most this many ring steps from the edge point.
+  int max_refine_steps = 3;
+  // Ring neighbours whose ranges differ by more than this are across an
+  // occluding contour (not interpolated), metres.
+  double refine_max_range_jump = 0.3;
+  // Refit the 3D line to the inliers projected onto the 2D segment's
+  // viewing plane (the image fixes that plane more precisely than the
+  // LIDAR's angular sampling fixes the edge points).
+  bool fit_in_viewing_plane = true;
+  // The inliers' projections must span this fraction of the 2D segment.
+  double min_inlier_coverage = 0.2;
+  // Reprojection check of the fitted line against the 2D segment.
+  double max_reprojection_angle_deg = 3.0;
+  double max_reprojection_distance_px = 4.0;
+  // Endpoint back-projection: minimum angle between the viewing ray and the
+  // 3D line, degrees.
+  double min_ray_line_angle_deg = 5.0;
+  // 3D endpoints must be within this range of the camera, metres.
+  double max_endpoint_range = 120.0;
+  TextureRejectionOptions texture;
+
+  bool Check() const;
+};
+
+// Why a 2D segment was not lifted (for statistics and tests).
+enum class LiftResult {
+  kLifted,
+  kTooFewPoints,
+  kRansacFailed,
+  kLowCoverage,
+  kReprojection,
+  kBackProjection,
+  kTexture,
+};
+
+// Lifts one segment. edge_grid holds the indices (into `projected`) of the
+// visible edge points. On kLifted, *lifted has the 2D segment, the 3D
+// endpoints and the inlier indices (no descriptor).
+// ring_neighbors may be null or empty (no refinement along rings).
+LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
+                       const ProjectedScan& projected,
+                       const PixelGrid& edge_grid,
+                       const EdgeAssociationOptions& options,
+                       ViewLineSegment* lifted,
+                       const RingNeighbors* ring_neighbors = nullptr);
+
+// Lifts every segment; returns the lifted ones in input order. counts, when
+// given, receives the number of segments per LiftResult (indexed by the
+// enum value).
+std::vector<ViewLineSegment> LiftSegments(
+    const std::vector<LineSegment2D>& segments, const Camera& camera,
+    const ProjectedScan& projected, const std::vector<int>& edge_point_idxs,
+    const EdgeAssociationOptions& options, std::vector<int>* counts = nullptr,
+    const RingNeighbors* ring_neighbors = nullptr);
+
+}  // namespace colmap_lidar

@@ -1,0 +1,104 @@
+#include "src/lines/workspace_line_extractor.h"
+
+#include <gtest/gtest.h>
+
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/testing.h"
+#include "src/dataset/importer.h"
+#include "src/lidar/scan_io.h"
+
+namespace colmap_lidar {
+namespace {
+
+// One KITTI workspace for all tests (importing is the slow part).
+class KittiWorkspaceTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    workspace_ = new std::string(testing::CreateTestDir());
+    ImporterOptions options;
+    options.copy_images = false;
+    options.copy_scans = false;
+    summary_ = new ImportSummary(ImportDataset(
+        testing::KittiSampleDir(), *workspace_, "", options));
+  }
+  static void TearDownTestSuite() {
+    delete workspace_;
+    delete summary_;
+  }
+
+  static std::string* workspace_;
+  static ImportSummary* summary_;
+};
+
+std::string* KittiWorkspaceTest::workspace_ = nullptr;
+ImportSummary* KittiWorkspaceTest::summary_ = nullptr;
+
+TEST_F(KittiWorkspaceTest, ThreeFramesGiveSaneSegments) {
+  std::vector<std::string> names;
+  {
+    Database database(summary_->database_path);
+    for (const DatabaseImage& image : database.ReadAllImages()) {
+      if (names.size() < 3) {
+        names.push_back(image.name);
+      }
+    }
+  }
+  ASSERT_EQ(names.size(), 3u);
+  LineExtractionOptions options;
+  options.num_threads = 2;
+  const std::string debug_path = JoinPaths(*workspace_, "lines_debug");
+  const WorkspaceLineExtractionSummary summary = ExtractWorkspaceLines(
+      summary_->database_path, summary_->image_path, names, options,
+      debug_path);
+  std::cout << summary.Format() << std::endl;
+  EXPECT_EQ(summary.num_images, 3);
+  // A sane count on a real urban frame: tens of segments, not thousands.
+  EXPECT_GE(summary.min_segments_per_image, 5);
+  EXPECT_LE(summary.max_segments_per_image, 400);
+  EXPECT_GT(summary.num_lsd_segments, summary.num_lifted_segments);
+
+  Database database(summary_->database_path);
+  size_t total = 0;
+  for (const std::string& name : names) {
+    const DatabaseImage image = *database.ReadImageWithName(name);
+    const std::vector<LineSegmentRecord> segments =
+        ReadLineSegments(database, image.image_id);
+    total += segments.size();
+    const Camera camera = *database.ReadCamera(image.camera_id);
+    for (const LineSegmentRecord& segment : segments) {
+      for (const Eigen::Vector3d& endpoint :
+           {segment.start3D_in_cam, segment.end3D_in_cam}) {
+        EXPECT_GT(endpoint.z(), 0.5) << name;
+        EXPECT_LT(endpoint.norm(), 120.0) << name;
+        // The 3D endpoint reprojects onto its 2D endpoint.
+      }
+      EXPECT_LT((camera.ImgFromCam(segment.start3D_in_cam) - segment.start2D)
+                    .norm(),
+                0.01);
+      EXPECT_GE(segment.num_inliers, 5u);
+    }
+    EXPECT_TRUE(ExistsFile(JoinPaths(
+        debug_path,
+        std::filesystem::path(name).stem().string() + ".png")))
+        << name;
+  }
+  EXPECT_EQ(total, static_cast<size_t>(summary.num_segments));
+
+  // Re-running replaces the rows instead of adding to them.
+  const size_t before = NumLineSegments(database);
+  database.Close();
+  ExtractWorkspaceLines(summary_->database_path, summary_->image_path,
+                        {names[0]}, options);
+  database.Open(summary_->database_path);
+  EXPECT_EQ(NumLineSegments(database), before);
+}
+
+TEST_F(KittiWorkspaceTest, UnknownImageThrows) {
+  EXPECT_THROW(ExtractWorkspaceLines(summary_->database_path,
+                                     summary_->image_path, {"nope.png"},
+                                     LineExtractionOptions()),
+               Error);
+}
+
+}  // namespace
+}  // namespace colmap_lidar

@@ -1,0 +1,102 @@
+// Delaunay meshing of visual points, LIDAR voxels and 3D line samples
+// (Amblard et al., Sec. III-E, last paragraph; the method of Labatut, Pons
+// and Keriven 2009 as in COLMAP's delaunay_mesher, which Debian's COLMAP
+// lacks):
+// 1. a 3D Delaunay triangulation of all points (delaunay_triangulation.h);
+// 2. every sensor-to-point ray carves free space (visibility_integration.h);
+// 3. a minimum s-t cut labels the cells outside (source) or inside (sink),
+//    with a surface-quality term on each facet (Labatut Fig. 9: 1 - the
+//    smaller cosine of the angles between the facet and the circumspheres
+//    of its two cells, times quality_regularization);
+// 4. the facets between outside and inside cells are the mesh, oriented
+//    towards the outside; then clean-up (triangle_mesh.h).
+//
+// Memory (benchmarks/bench_meshing, synthetic box scene, 12 cameras, ~7
+// observations per point): without vertex merging, 292k points -> 292k
+// vertices, 1.77M cells, 2.0M rays peaked at 558 MiB, i.e. ~2.0 kB per
+// inserted point; with the default 2 px merging 972k points -> 197k vertices
+// peaked at 548 MiB. kEstimatedBytesPerPoint (2.5 kB, no merging assumed) is
+// the guard's budget: max_memory_gb = 20 admits ~8.6M points (about 12M
+// would fit in 24 GiB at the measured rate); larger inputs are decimated on
+// a voxel grid first.
+#pragma once
+
+#include <string>
+
+#include "src/mesh/delaunay_triangulation.h"
+#include "src/mesh/meshing_input.h"
+#include "src/mesh/triangle_mesh.h"
+#include "src/mesh/visibility_integration.h"
+
+namespace colmap_lidar {
+
+// Budgeted peak resident memory per input point of a full meshing run
+// (measured ~2.0 kB without merging, plus margin); used by the memory guard.
+constexpr double kEstimatedBytesPerPoint = 2500.0;
+
+struct DelaunayMeshingOptions {
+  // Vertex merging (see delaunay_triangulation.h): pixels, relative depth,
+  // metres. max_proj_dist_px = 0 inserts every visual point.
+  double max_proj_dist_px = 2.0;
+  double max_depth_dist = 0.05;
+  double min_lidar_vertex_distance_m = 0.0;
+  // Free-space weight falloff sigma relative to the lower-quartile edge
+  // length, and where the inside weight goes behind a point (units of sigma).
+  double distance_sigma_factor = 1.0;
+  double behind_distance_factor = 0.25;
+  // Weight of the surface-quality term per facet, >= 0.
+  double quality_regularization = 1.0;
+  // Clean-up of the extracted surface.
+  double max_edge_length_factor = 25.0;
+  int min_component_faces = 50;
+  // Memory guard: inputs whose estimated peak exceeds this are decimated,
+  // GiB (> 0).
+  double max_memory_gb = 20.0;
+  // Worker threads for the ray casting; <= 0 uses all cores.
+  int num_threads = -1;
+
+  bool Check() const;
+  DelaunayTriangulationOptions TriangulationOptions() const;
+  VisibilityIntegrationOptions VisibilityOptions() const;
+  MeshCleanupOptions CleanupOptions() const;
+};
+
+struct DelaunayMeshingSummary {
+  size_t num_input_points = 0;
+  // Voxel size of the memory guard's decimation; 0 if none.
+  double decimation_voxel_size_m = 0;
+  size_t num_vertices = 0;
+  size_t num_cells = 0;
+  size_t num_rays = 0;
+  size_t num_failed_walks = 0;
+  double distance_sigma_m = 0;
+  double max_flow = 0;
+  size_t num_surface_faces = 0;
+  MeshCleanupSummary cleanup;
+  size_t num_faces = 0;
+  size_t num_mesh_vertices = 0;
+  double triangulation_seconds = 0;
+  double visibility_seconds = 0;
+  double graph_cut_seconds = 0;
+  double total_seconds = 0;
+  // Peak resident set size of the process so far (VmHWM), bytes.
+  size_t peak_memory_bytes = 0;
+};
+
+// Meshes `input`. Throws colmap_lidar::Error on invalid options or input.
+TriangleMesh DelaunayMeshing(const DelaunayMeshingOptions& options,
+                             const MeshingInput& input,
+                             DelaunayMeshingSummary* summary = nullptr);
+
+// The lidar_delaunay_mesher command: reads the workspace (and lines),
+// meshes, writes `output_path` (WriteMeshPly).
+DelaunayMeshingSummary MeshDenseWorkspace(
+    const DelaunayMeshingOptions& options,
+    const MeshingInputOptions& input_options,
+    const std::string& workspace_path, const std::string& lines_model_path,
+    const std::string& output_path);
+
+// VmHWM of /proc/self/status in bytes; 0 when unavailable.
+size_t PeakResidentMemoryBytes();
+
+}  // namespace colmap_lidar

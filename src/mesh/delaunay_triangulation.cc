@@ -1,0 +1,164 @@
+#include "src/mesh/delaunay_triangulation.h"
+
+#include <numeric>
+
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
+
+#include "colmap_ext/util/logging.h"
+
+namespace colmap_lidar {
+namespace {
+
+constexpr uint32_t kNoVertex = 0xFFFFFFFFu;
+
+// True when the visual point may be represented by `vertex_position`: close
+// in every observing image, in pixels and in relative depth.
+bool IsCloseInImages(const DelaunayTriangulationOptions& options,
+                     const MeshingInput& input, size_t point_idx,
+                     const Eigen::Vector3d& vertex_position) {
+  const Eigen::Vector3d& position = input.positions[point_idx];
+  const double max_sq_dist = options.max_proj_dist_px * options.max_proj_dist_px;
+  for (const uint32_t sensor_idx : input.visibility[point_idx]) {
+    const MeshingSensor& sensor = input.sensors[sensor_idx];
+    if (!sensor.is_camera) return false;
+    const Eigen::Vector3d a = sensor.proj_matrix * position.homogeneous();
+    const Eigen::Vector3d b = sensor.proj_matrix * vertex_position.homogeneous();
+    if (a.z() <= 0 || b.z() <= 0) return false;
+    const double depth_ratio = a.z() / b.z();
+    if (std::abs(depth_ratio - 1.0) > options.max_depth_dist) return false;
+    if ((a.hnormalized() - b.hnormalized()).squaredNorm() > max_sq_dist) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool DelaunayTriangulationOptions::Check() const {
+  if (!(max_proj_dist_px >= 0)) {
+    LOG(ERROR) << "DelaunayMeshing.max_proj_dist_px must be >= 0";
+    return false;
+  }
+  if (!(max_depth_dist >= 0 && max_depth_dist <= 1)) {
+    LOG(ERROR) << "DelaunayMeshing.max_depth_dist must be in [0, 1]";
+    return false;
+  }
+  if (!(min_lidar_vertex_distance_m >= 0)) {
+    LOG(ERROR) << "DelaunayMeshing.min_lidar_vertex_distance_m must be >= 0";
+    return false;
+  }
+  return true;
+}
+
+void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
+                               const MeshingInput& input,
+                               MeshingTriangulation* triangulation) {
+  THROW_CHECK(options.Check(), "Invalid Delaunay triangulation options");
+  input.Check();
+  MeshDelaunay& delaunay = triangulation->delaunay;
+  delaunay.clear();
+  triangulation->vertices.clear();
+  triangulation->vertex_sources.clear();
+  triangulation->point_to_vertex.assign(input.NumPoints(), kNoVertex);
+
+  // Line samples first, then the rest; each group in spatial order so that
+  // the previous vertex is a good location hint.
+  std::vector<size_t> line_points;
+  std::vector<size_t> other_points;
+  for (uint32_t i = 0; i < input.NumPoints(); ++i) {
+    (input.sources[i] == MeshingPointSource::kLine ? line_points : other_points)
+        .push_back(i);
+  }
+  {
+    std::vector<MeshPoint> points;
+    points.reserve(input.NumPoints());
+    for (const Eigen::Vector3d& position : input.positions) {
+      points.push_back(ToCgal(position));
+    }
+    using Traits = CGAL::Spatial_sort_traits_adapter_3<
+        MeshKernel, CGAL::Pointer_property_map<MeshPoint>::type>;
+    const Traits traits(CGAL::make_property_map(points));
+    CGAL::spatial_sort(line_points.begin(), line_points.end(), traits);
+    CGAL::spatial_sort(other_points.begin(), other_points.end(), traits);
+  }
+
+  const double sq_lidar_dist = options.min_lidar_vertex_distance_m *
+                               options.min_lidar_vertex_distance_m;
+  MeshCellHandle hint;
+  size_t num_merged = 0;
+  auto insert = [&](size_t point_idx) {
+    const Eigen::Vector3d& position = input.positions[point_idx];
+    const MeshPoint point = ToCgal(position);
+    const MeshingPointSource source = input.sources[point_idx];
+    const bool may_merge =
+        delaunay.dimension() == 3 &&
+        ((source == MeshingPointSource::kVisual &&
+          options.max_proj_dist_px > 0) ||
+         (source == MeshingPointSource::kLidar && sq_lidar_dist > 0));
+    MeshDelaunay::Locate_type locate_type;
+    int li, lj;
+    const MeshCellHandle cell =
+        delaunay.locate(point, locate_type, li, lj, hint);
+    if (may_merge && !delaunay.is_infinite(cell)) {
+      // The nearest finite vertex of the enclosing cell.
+      int nearest = -1;
+      double nearest_sq_dist = std::numeric_limits<double>::max();
+      for (int k = 0; k < 4; ++k) {
+        const double sq_dist =
+            (ToEigen(cell->vertex(k)->point()) - position).squaredNorm();
+        if (sq_dist < nearest_sq_dist) {
+          nearest_sq_dist = sq_dist;
+          nearest = k;
+        }
+      }
+      const MeshVertexHandle vertex = cell->vertex(nearest);
+      const bool merge =
+          source == MeshingPointSource::kLidar
+              ? nearest_sq_dist <= sq_lidar_dist
+              : IsCloseInImages(options, input, point_idx,
+                                ToEigen(vertex->point()));
+      if (merge) {
+        triangulation->point_to_vertex[point_idx] = vertex->info();
+        hint = cell;
+        ++num_merged;
+        return;
+      }
+    }
+    const size_t num_before = delaunay.number_of_vertices();
+    const MeshVertexHandle vertex =
+        delaunay.insert(point, locate_type, cell, li, lj);
+    if (delaunay.number_of_vertices() > num_before) {
+      vertex->info() = static_cast<uint32_t>(triangulation->vertices.size());
+      triangulation->vertices.push_back(vertex);
+      triangulation->vertex_sources.push_back(source);
+    } else {
+      ++num_merged;  // An exact duplicate.
+    }
+    triangulation->point_to_vertex[point_idx] = vertex->info();
+    hint = vertex->cell();
+  };
+  for (const size_t point_idx : line_points) insert(point_idx);
+  for (const size_t point_idx : other_points) insert(point_idx);
+
+  THROW_CHECK(delaunay.dimension() == 3,
+              "The " << input.NumPoints()
+                     << " meshing points span no volume (dimension "
+                     << delaunay.dimension() << ")");
+
+  triangulation->cells.clear();
+  triangulation->cells.reserve(delaunay.number_of_cells());
+  for (auto it = delaunay.all_cells_begin(); it != delaunay.all_cells_end();
+       ++it) {
+    it->info() = static_cast<uint32_t>(triangulation->cells.size());
+    triangulation->cells.push_back(it);
+  }
+  LOG(INFO) << "Delaunay triangulation: " << triangulation->NumVertices()
+            << " vertices from " << input.NumPoints() << " points ("
+            << num_merged << " merged), " << triangulation->NumCells()
+            << " cells";
+}
+
+}  // namespace colmap_lidar

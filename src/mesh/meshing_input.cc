@@ -1,0 +1,378 @@
+#include "src/mesh/meshing_input.h"
+
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "colmap_ext/mvs/workspace.h"
+#include "colmap_ext/model/model_io.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
+#include "colmap_ext/util/string.h"
+
+namespace colmap_lidar {
+
+size_t MeshingInput::NumRays() const {
+  size_t num_rays = 0;
+  for (const auto& sensors_of_point : visibility) {
+    num_rays += sensors_of_point.size();
+  }
+  return num_rays;
+}
+
+size_t MeshingInput::NumPoints(MeshingPointSource source) const {
+  size_t count = 0;
+  for (const MeshingPointSource point_source : sources) {
+    count += point_source == source ? 1 : 0;
+  }
+  return count;
+}
+
+void MeshingInput::AddPoint(const Eigen::Vector3d& position,
+                            MeshingPointSource source, float ray_weight,
+                            std::vector<uint32_t> sensor_indices) {
+  for (const uint32_t sensor_idx : sensor_indices) {
+    THROW_CHECK(sensor_idx < sensors.size(),
+                "Sensor index " << sensor_idx << " of point "
+                                << positions.size() << " is not below "
+                                << sensors.size());
+  }
+  positions.push_back(position);
+  sources.push_back(source);
+  ray_weights.push_back(ray_weight);
+  visibility.push_back(std::move(sensor_indices));
+}
+
+void MeshingInput::Check() const {
+  THROW_CHECK(sources.size() == positions.size() &&
+                  ray_weights.size() == positions.size() &&
+                  visibility.size() == positions.size(),
+              "MeshingInput arrays differ in length");
+  CheckFusedVisIndices(visibility, sensors.size(), "MeshingInput");
+}
+
+LidarCountMapping LidarCountMappingFromString(const std::string& name) {
+  const std::string lower = StringToLower(name);
+  if (lower == "none") return LidarCountMapping::kNone;
+  if (lower == "linear") return LidarCountMapping::kLinear;
+  if (lower == "log") return LidarCountMapping::kLog;
+  THROW_ERROR("Unknown LIDAR count mapping '" << name
+                                              << "' (none | linear | log)");
+}
+
+bool MeshingInputOptions::Check() const {
+  if (!(visual_weight >= 0)) {
+    LOG(ERROR) << "MeshingInput.visual_weight must be >= 0";
+    return false;
+  }
+  if (!(visibility_sigma > 0)) {
+    LOG(ERROR) << "MeshingInput.visibility_sigma must be > 0";
+    return false;
+  }
+  if (!(lidar_weight >= 0)) {
+    LOG(ERROR) << "MeshingInput.lidar_weight must be >= 0";
+    return false;
+  }
+  try {
+    LidarCountMappingFromString(lidar_count_mapping);
+  } catch (const Error& error) {
+    LOG(ERROR) << "MeshingInput.lidar_count_mapping: " << error.what();
+    return false;
+  }
+  if (!(line_weight >= 0)) {
+    LOG(ERROR) << "MeshingInput.line_weight must be >= 0";
+    return false;
+  }
+  if (!(line_sample_step_m > 0)) {
+    LOG(ERROR) << "MeshingInput.line_sample_step_m must be > 0";
+    return false;
+  }
+  return true;
+}
+
+std::string LidarFusedPlyPath(const std::string& workspace_path) {
+  return JoinPaths(workspace_path, "lidar_fused.ply");
+}
+std::string LidarFusedVisPath(const std::string& workspace_path) {
+  return JoinPaths(workspace_path, "lidar_fused.ply.vis");
+}
+std::string LidarOriginsPath(const std::string& workspace_path) {
+  return JoinPaths(workspace_path, "lidar_origins.txt");
+}
+
+std::vector<std::pair<std::string, Eigen::Vector3d>> ReadLidarOrigins(
+    const std::string& path) {
+  CheckFileExists(path, "LIDAR origins");
+  std::istringstream stream(ReadTextFile(path));
+  std::vector<std::pair<std::string, Eigen::Vector3d>> origins;
+  std::map<std::string, int> line_of_name;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(stream, line)) {
+    ++line_number;
+    line = StringTrim(line);
+    if (line.empty() || line[0] == '#') continue;
+    // The last three fields are the coordinates; the rest is the name.
+    std::vector<std::string> fields = StringSplit(line, " \t");
+    std::vector<std::string> tokens;
+    for (const std::string& field : fields) {
+      if (!field.empty()) tokens.push_back(field);
+    }
+    THROW_CHECK(tokens.size() >= 4, path << ":" << line_number
+                                         << ": expected IMAGE_NAME X Y Z");
+    Eigen::Vector3d origin;
+    for (int k = 0; k < 3; ++k) {
+      origin[k] = ParseDouble(tokens[tokens.size() - 3 + k],
+                              path + ":" + std::to_string(line_number));
+    }
+    // The name is what precedes the last three fields (it may hold spaces).
+    std::string name = line;
+    for (int k = 0; k < 3; ++k) {
+      name = StringTrim(name.substr(0, name.find_last_of(" \t")));
+    }
+    const auto [it, inserted] = line_of_name.emplace(name, line_number);
+    THROW_CHECK(inserted, path << ":" << line_number << ": image '" << name
+                               << "' already on line " << it->second);
+    origins.emplace_back(name, origin);
+  }
+  return origins;
+}
+
+void WriteLidarOrigins(
+    const std::string& path,
+    const std::vector<std::pair<std::string, Eigen::Vector3d>> & origins) {
+  WriteFileAtomically(
+      path,
+      [&](std::ostream& stream) {
+        stream << "# IMAGE_NAME X Y Z (LIDAR centre in the world frame)\n";
+        stream << std::setprecision(17);
+        for (const auto& [name, origin] : origins) {
+          stream << name << " " << origin.x() << " " << origin.y() << " "
+                 << origin.z() << "\n";
+        }
+      },
+      /*binary=*/false);
+}
+
+void AddCameraSensors(const Reconstruction& model, MeshingInput* input) {
+  THROW_CHECK(input->sensors.empty(),
+              "AddCameraSensors must be called on an empty input");
+  for (const Image& image : model.images) {
+    const auto camera_it = model.cameras.find(image.camera_id);
+    THROW_CHECK(camera_it != model.cameras.end(),
+                "Image " << image.name << " has no camera");
+    MeshingSensor sensor;
+    sensor.position_in_world = image.ProjectionCenter();
+    sensor.is_camera = true;
+    sensor.proj_matrix =
+        camera_it->second.CalibrationMatrix() * image.cam_from_world.ToMatrix();
+    input->sensors.push_back(sensor);
+  }
+}
+
+void AddVisualPoints(const MeshingInputOptions& options,
+                     const std::vector<Eigen::Vector3d>& positions,
+                     const FusedVisibility& visibility, MeshingInput* input) {
+  THROW_CHECK(positions.size() == visibility.size(),
+              "Visual points and visibility differ in length");
+  const double normalization =
+      -0.5 / (options.visibility_sigma * options.visibility_sigma);
+  size_t num_unseen = 0;
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const double n = static_cast<double>(visibility[i].size());
+    if (n == 0) {
+      ++num_unseen;
+      continue;
+    }
+    const double weight =
+        options.visual_weight * (1.0 - std::exp(n * n * normalization));
+    input->AddPoint(positions[i], MeshingPointSource::kVisual,
+                    static_cast<float>(weight), visibility[i]);
+  }
+  if (num_unseen > 0) {
+    LOG(WARNING) << num_unseen << " visual points without visibility skipped";
+  }
+}
+
+void AddLidarPoints(const MeshingInputOptions& options,
+                    const std::vector<Eigen::Vector3d>& positions,
+                    const std::vector<uint32_t>& counts,
+                    const FusedVisibility& frames,
+                    const std::vector<Eigen::Vector3d>& origins,
+                    const std::vector<bool>& has_origin,
+                    const std::string& path_for_errors, MeshingInput* input) {
+  THROW_CHECK(positions.size() == counts.size() &&
+                  positions.size() == frames.size(),
+              "LIDAR points, counts and visibility differ in length");
+  THROW_CHECK(origins.size() == has_origin.size(),
+              "LIDAR origins and flags differ in length");
+  const LidarCountMapping mapping =
+      LidarCountMappingFromString(options.lidar_count_mapping);
+  // One sensor per frame that has an origin, created on first use.
+  std::vector<int> sensor_of_frame(origins.size(), -1);
+  for (size_t i = 0; i < positions.size(); ++i) {
+    if (frames[i].empty()) continue;
+    std::vector<uint32_t> sensor_indices;
+    sensor_indices.reserve(frames[i].size());
+    for (const uint32_t frame : frames[i]) {
+      THROW_CHECK(frame < origins.size(),
+                  path_for_errors << ": point " << i << " refers to image "
+                                  << frame << " of " << origins.size());
+      THROW_CHECK(has_origin[frame], path_for_errors
+                                         << ": point " << i
+                                         << " is seen by image position "
+                                         << frame
+                                         << ", which has no LIDAR origin");
+      if (sensor_of_frame[frame] < 0) {
+        sensor_of_frame[frame] = static_cast<int>(input->sensors.size());
+        MeshingSensor sensor;
+        sensor.position_in_world = origins[frame];
+        input->sensors.push_back(sensor);
+      }
+      sensor_indices.push_back(sensor_of_frame[frame]);
+    }
+    const double count = std::max<uint32_t>(counts[i], 1);
+    double total_weight = options.lidar_weight;
+    switch (mapping) {
+      case LidarCountMapping::kNone:
+        break;
+      case LidarCountMapping::kLinear:
+        total_weight *= count;
+        break;
+      case LidarCountMapping::kLog:
+        total_weight *= 1.0 + std::log(count);
+        break;
+    }
+    const float ray_weight =
+        static_cast<float>(total_weight / sensor_indices.size());
+    input->AddPoint(positions[i], MeshingPointSource::kLidar, ray_weight,
+                    std::move(sensor_indices));
+  }
+}
+
+void AddLineSamples(const MeshingInputOptions& options,
+                    const Reconstruction& dense_model,
+                    const Reconstruction& lines_model, MeshingInput* input) {
+  size_t num_lines_used = 0;
+  for (const auto& [line3D_id, line3D] : lines_model.lines3D) {
+    std::vector<uint32_t> sensor_indices;
+    for (const LineTrackElement& element : line3D.track) {
+      const int image_idx = dense_model.ImageIndex(element.image_id);
+      if (image_idx >= 0) sensor_indices.push_back(image_idx);
+    }
+    std::sort(sensor_indices.begin(), sensor_indices.end());
+    sensor_indices.erase(
+        std::unique(sensor_indices.begin(), sensor_indices.end()),
+        sensor_indices.end());
+    if (sensor_indices.empty()) continue;
+    const Eigen::Vector3d& start = line3D.start_in_world;
+    const Eigen::Vector3d& end = line3D.end_in_world;
+    const int num_steps = std::max(
+        1, static_cast<int>(std::ceil((end - start).norm() /
+                                      options.line_sample_step_m)));
+    for (int k = 0; k <= num_steps; ++k) {
+      const double t = static_cast<double>(k) / num_steps;
+      input->AddPoint(start + t * (end - start), MeshingPointSource::kLine,
+                      static_cast<float>(options.line_weight),
+                      sensor_indices);
+    }
+    ++num_lines_used;
+  }
+  if (num_lines_used < lines_model.lines3D.size()) {
+    LOG(WARNING) << lines_model.lines3D.size() - num_lines_used
+                 << " 3D lines are seen by no image of the dense model";
+  }
+}
+
+MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
+                              const std::string& workspace_path,
+                              const std::string& lines_model_path) {
+  THROW_CHECK(options.Check(), "Invalid meshing input options");
+  CheckDirExists(workspace_path, "Dense workspace");
+  const DenseWorkspace workspace(workspace_path);
+  const Reconstruction model = workspace.ReadModel();
+  MeshingInput input;
+  AddCameraSensors(model, &input);
+
+  if (options.use_visual) {
+    const std::string ply_path = workspace.FusedPlyPath();
+    const std::string vis_path = workspace.FusedVisPath();
+    CheckFileExists(ply_path, "Fused point cloud");
+    CheckFileExists(vis_path, "Fused point visibility");
+    const std::vector<PlyPoint> points = ReadPlyPoints(ply_path);
+    const FusedVisibility visibility = ReadFusedVis(vis_path, points.size());
+    CheckFusedVisIndices(visibility, model.images.size(), vis_path);
+    std::vector<Eigen::Vector3d> positions;
+    positions.reserve(points.size());
+    for (const PlyPoint& point : points) {
+      positions.push_back(point.xyz.cast<double>());
+    }
+    AddVisualPoints(options, positions, visibility, &input);
+    LOG(INFO) << "Visual points: " << points.size() << " from " << ply_path;
+  }
+
+  const std::string lidar_ply_path = LidarFusedPlyPath(workspace_path);
+  if (options.use_lidar && ExistsFile(lidar_ply_path)) {
+    const std::string vis_path = LidarFusedVisPath(workspace_path);
+    const std::string origins_path = LidarOriginsPath(workspace_path);
+    CheckFileExists(vis_path, "LIDAR voxel visibility");
+    CheckFileExists(origins_path, "LIDAR origins");
+    const PlyData ply = ReadPly(lidar_ply_path);
+    const std::vector<Eigen::Vector3d> positions = ply.Positions(lidar_ply_path);
+    std::vector<uint32_t> counts(positions.size(), 1);
+    if (const PlyColumn* column = ply.FindColumn("count")) {
+      for (size_t i = 0; i < counts.size(); ++i) {
+        THROW_CHECK(column->values[i] >= 0,
+                    lidar_ply_path << ": negative count at vertex " << i);
+        counts[i] = static_cast<uint32_t>(column->values[i]);
+      }
+    } else {
+      LOG(WARNING) << lidar_ply_path << " has no 'count'; using 1 per voxel";
+    }
+    const FusedVisibility frames = ReadFusedVis(vis_path, positions.size());
+    CheckFusedVisIndices(frames, model.images.size(), vis_path);
+    std::vector<Eigen::Vector3d> origins(model.images.size(),
+                                         Eigen::Vector3d::Zero());
+    std::vector<bool> has_origin(model.images.size(), false);
+    for (const auto& [name, origin] : ReadLidarOrigins(origins_path)) {
+      const int image_idx = [&] {
+        const Image* image = model.FindImageByName(name);
+        return image == nullptr ? -1 : model.ImageIndex(image->image_id);
+      }();
+      if (image_idx < 0) {
+        LOG(WARNING) << origins_path << ": image " << name
+                     << " is not in the workspace model";
+        continue;
+      }
+      origins[image_idx] = origin;
+      has_origin[image_idx] = true;
+    }
+    AddLidarPoints(options, positions, counts, frames, origins, has_origin,
+                   vis_path + " / " + origins_path, &input);
+    LOG(INFO) << "LIDAR voxels: " << positions.size() << " from "
+              << lidar_ply_path;
+  } else if (options.use_lidar) {
+    LOG(INFO) << "No " << lidar_ply_path << "; meshing without LIDAR";
+  }
+
+  if (!lines_model_path.empty()) {
+    CheckDirExists(lines_model_path, "Lines model");
+    const Reconstruction lines_model = ReadReconstruction(lines_model_path);
+    THROW_CHECK(!lines_model.lines3D.empty(),
+                "No lines3D.bin/.txt with lines in " << lines_model_path);
+    const size_t num_before = input.NumPoints();
+    AddLineSamples(options, model, lines_model, &input);
+    LOG(INFO) << "Line samples: " << input.NumPoints() - num_before << " from "
+              << lines_model.lines3D.size() << " 3D lines in "
+              << lines_model_path;
+  }
+
+  THROW_CHECK(input.NumPoints() > 0,
+              "No input points for meshing in " << workspace_path);
+  input.Check();
+  return input;
+}
+
+}  // namespace colmap_lidar

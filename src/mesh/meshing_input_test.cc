@@ -1,0 +1,189 @@
+#include "src/mesh/meshing_input.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "colmap_ext/model/model_io.h"
+#include "colmap_ext/mvs/workspace.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/testing.h"
+#include "src/mesh/synthetic_box_scene.h"
+
+namespace colmap_lidar {
+namespace {
+
+// Expects `function` to throw an Error whose message contains `text`.
+template <typename Function>
+void ExpectErrorNaming(Function&& function, const std::string& text) {
+  try {
+    function();
+    ADD_FAILURE() << "no exception; expected one naming " << text;
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find(text), std::string::npos)
+        << error.what();
+  }
+}
+
+class MeshingInputTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scene_options_.box_spacing_m = 0.05;
+    scene_options_.ground_spacing_m = 0.2;
+    scene_ = std::make_unique<SyntheticBoxScene>(scene_options_);
+    points_ = scene_->SampleVisualPoints();
+    lidar_ = scene_->SimulateLidar(3, 2.0, 0.05, 0.0);
+    workspace_ = testing::CreateTestDir();
+    scene_->WriteWorkspace(workspace_, points_, &lidar_);
+  }
+
+  SyntheticBoxSceneOptions scene_options_;
+  std::unique_ptr<SyntheticBoxScene> scene_;
+  SyntheticPoints points_;
+  SyntheticBoxScene::LidarVoxels lidar_;
+  std::string workspace_;
+};
+
+TEST_F(MeshingInputTest, ReadsVisualLidarAndLines) {
+  // Lines in a separate model folder (our lines3D.txt next to the model).
+  Reconstruction lines_model = scene_->Model();
+  line3D_t line3D_id = 1;
+  for (const Line3D& line : scene_->BoxEdgeLines()) {
+    lines_model.lines3D[line3D_id++] = line;
+  }
+  const std::string lines_dir = JoinPaths(workspace_, "lines");
+  WriteReconstruction(lines_dir, lines_model, ModelFormat::kBinary);
+
+  MeshingInputOptions options;
+  options.line_sample_step_m = 0.1;
+  const MeshingInput input = ReadMeshingInput(options, workspace_, lines_dir);
+  EXPECT_EQ(input.NumPoints(MeshingPointSource::kVisual),
+            points_.positions.size());
+  EXPECT_EQ(input.NumPoints(MeshingPointSource::kLidar),
+            lidar_.positions.size());
+  // 1.2 m edges -> 13 samples, 0.8 m -> 9 samples.
+  size_t expected_line_samples = 0;
+  for (const auto& [id, line] : lines_model.lines3D) {
+    expected_line_samples +=
+        1 + std::ceil((line.end_in_world - line.start_in_world).norm() / 0.1 - 1e-9);
+  }
+  EXPECT_EQ(input.NumPoints(MeshingPointSource::kLine), expected_line_samples);
+  // 12 cameras + 3 LIDAR origins.
+  ASSERT_EQ(input.sensors.size(), 15u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_FALSE(input.sensors[12 + i].is_camera);
+  }
+  // LIDAR sensors are created in order of first use; each is an origin.
+  for (int i = 0; i < 3; ++i) {
+    int num_matches = 0;
+    for (int frame = 0; frame < 3; ++frame) {
+      num_matches += input.sensors[12 + i].position_in_world.isApprox(
+                         scene_->LidarOrigin(frame))
+                         ? 1
+                         : 0;
+    }
+    EXPECT_EQ(num_matches, 1);
+  }
+  // Camera sensors project their own points inside the image.
+  for (size_t i = 0; i < points_.positions.size(); i += 101) {
+    for (const uint32_t sensor : input.visibility[i]) {
+      const Eigen::Vector2d pixel =
+          (input.sensors[sensor].proj_matrix * input.positions[i].homogeneous())
+              .hnormalized();
+      EXPECT_GE(pixel.x(), 0);
+      EXPECT_LT(pixel.x(), scene_options_.image_width);
+    }
+  }
+  // LIDAR weights: log mapping, spread over the frames.
+  const size_t first_lidar = points_.positions.size();
+  EXPECT_NEAR(input.ray_weights[first_lidar],
+              (1 + std::log(lidar_.counts[0])) / lidar_.frames[0].size(), 1e-5);
+
+  options.use_lidar = false;
+  EXPECT_EQ(ReadMeshingInput(options, workspace_).NumPoints(MeshingPointSource::kLidar), 0u);
+  options.use_lidar = true;
+  options.use_visual = false;
+  EXPECT_EQ(ReadMeshingInput(options, workspace_).NumPoints(MeshingPointSource::kVisual), 0u);
+}
+
+TEST_F(MeshingInputTest, ErrorsNameTheFile) {
+  const MeshingInputOptions options;
+  // A .vis file with one entry too many.
+  FusedVisibility visibility = points_.visibility;
+  visibility.push_back({0});
+  WriteFusedVis(JoinPaths(workspace_, "fused.ply.vis"), visibility);
+  ExpectErrorNaming([&] { ReadMeshingInput(options, workspace_); },
+                    "fused.ply.vis");
+  // A .vis index beyond the model's images.
+  visibility = points_.visibility;
+  visibility[0] = {99};
+  WriteFusedVis(JoinPaths(workspace_, "fused.ply.vis"), visibility);
+  ExpectErrorNaming([&] { ReadMeshingInput(options, workspace_); },
+                    "fused.ply.vis");
+  WriteFusedVis(JoinPaths(workspace_, "fused.ply.vis"), points_.visibility);
+  // Missing fused.ply.
+  std::filesystem::rename(JoinPaths(workspace_, "fused.ply"),
+                          JoinPaths(workspace_, "fused.bak"));
+  ExpectErrorNaming([&] { ReadMeshingInput(options, workspace_); },
+                    "fused.ply");
+  std::filesystem::rename(JoinPaths(workspace_, "fused.bak"),
+                          JoinPaths(workspace_, "fused.ply"));
+  // LIDAR vis count mismatch.
+  FusedVisibility frames = lidar_.frames;
+  frames.pop_back();
+  WriteFusedVis(LidarFusedVisPath(workspace_), frames);
+  ExpectErrorNaming([&] { ReadMeshingInput(options, workspace_); },
+                    "lidar_fused.ply.vis");
+  WriteFusedVis(LidarFusedVisPath(workspace_), lidar_.frames);
+  // A frame without origin.
+  WriteLidarOrigins(LidarOriginsPath(workspace_),
+                    {{scene_->Model().images[0].name, scene_->LidarOrigin(0)}});
+  ExpectErrorNaming([&] { ReadMeshingInput(options, workspace_); },
+                    "lidar_origins.txt");
+  // Missing origins file.
+  std::filesystem::remove(LidarOriginsPath(workspace_));
+  ExpectErrorNaming([&] { ReadMeshingInput(options, workspace_); },
+                    "lidar_origins.txt");
+  // A lines folder without lines.
+  ExpectErrorNaming(
+      [&] { ReadMeshingInput(MeshingInputOptions{true, false}, workspace_,
+                             JoinPaths(workspace_, "sparse")); },
+      "sparse");
+  ExpectErrorNaming(
+      [&] { ReadMeshingInput(options, JoinPaths(workspace_, "nothing")); },
+      "nothing");
+}
+
+TEST(LidarOrigins, RoundTripNamesWithSpacesAndErrors) {
+  const std::string dir = testing::CreateTestDir();
+  const std::string path = JoinPaths(dir, "lidar_origins.txt");
+  WriteLidarOrigins(path, {{"cam0/a b.png", Eigen::Vector3d(1, 2.5, -3)},
+                           {"x.png", Eigen::Vector3d(0.1, 0, 1e-7)}});
+  const auto origins = ReadLidarOrigins(path);
+  ASSERT_EQ(origins.size(), 2u);
+  EXPECT_EQ(origins[0].first, "cam0/a b.png");
+  EXPECT_EQ(origins[0].second, Eigen::Vector3d(1, 2.5, -3));
+  EXPECT_EQ(origins[1].second, Eigen::Vector3d(0.1, 0, 1e-7));
+  WriteFileAtomically(path, [](std::ostream& s) { s << "x.png 1 2\n"; }, false);
+  ExpectErrorNaming([&] { ReadLidarOrigins(path); }, "lidar_origins.txt:1");
+  WriteFileAtomically(
+      path, [](std::ostream& s) { s << "# c\nx.png 1 2 3\nx.png 1 2 3\n"; },
+      false);
+  ExpectErrorNaming([&] { ReadLidarOrigins(path); }, "lidar_origins.txt:3");
+}
+
+TEST(MeshingInputOptions, Check) {
+  MeshingInputOptions options;
+  EXPECT_TRUE(options.Check());
+  options.lidar_count_mapping = "cubic";
+  EXPECT_FALSE(options.Check());
+  options = MeshingInputOptions();
+  options.line_sample_step_m = 0;
+  EXPECT_FALSE(options.Check());
+  EXPECT_EQ(LidarCountMappingFromString("LINEAR"), LidarCountMapping::kLinear);
+}
+
+}  // namespace
+}  // namespace colmap_lidar

@@ -1,0 +1,72 @@
+// Visibility integration into the cells of the Delaunay triangulation
+// (Labatut, Pons, Keriven 2009, "Robust and efficient surface
+// reconstruction from range data", Sec. 4; Amblard et al. Sec. III-E).
+//
+// Every ray from a sensor centre (camera centre or LIDAR origin) to an
+// observed vertex says that the space in between is empty. The ray is walked
+// through the tetrahedra, from the vertex towards the sensor:
+// - each facet it crosses gets free-space weight alpha * (1 - exp(-d^2 /
+//   (2 sigma^2))) on the directed graph edge from the cell nearer the sensor
+//   into the cell nearer the point (d = distance of the crossing from the
+//   point, so the facets right at the point stay cheap to cut);
+// - the cell that contains the sensor (or the first cell outside the convex
+//   hull) gets source ("outside") weight alpha;
+// - the cell behind_distance_factor * sigma behind the point, on the
+//   prolonged ray, gets sink ("inside") weight alpha (the last finite cell
+//   if the prolonged ray leaves the convex hull on the way; the infinite
+//   cell if it leaves the hull right at the point).
+// sigma = distance_sigma_factor * the 25th percentile of the edge lengths.
+// Rays from several input points merged into one vertex are summed, so each
+// (vertex, sensor) pair is walked once.
+//
+// The walk is a straight-line walk with CGAL's exact orientation predicates;
+// rays that pass exactly through an edge or vertex take one of the adjacent
+// facets. Threads share the weight arrays through atomic adds.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <vector>
+
+#include "src/mesh/delaunay_triangulation.h"
+#include "src/mesh/meshing_input.h"
+
+namespace colmap_lidar {
+
+struct VisibilityIntegrationOptions {
+  // sigma of the free-space weight, relative to the 25th percentile of the
+  // triangulation's edge lengths (> 0).
+  double distance_sigma_factor = 1.0;
+  // Where the inside weight goes behind the point, in units of sigma (> 0).
+  double behind_distance_factor = 0.25;
+  // Worker threads; <= 0 uses all cores.
+  int num_threads = -1;
+
+  bool Check() const;
+};
+
+// Weights of the s-t graph whose nodes are the cells (by cell index).
+struct CellGraphWeights {
+  std::vector<float> source;  // Outside evidence per cell.
+  std::vector<float> sink;    // Inside evidence per cell.
+  // facet_in[4 * c + k]: capacity of the edge from cell c's neighbour k into
+  // cell c.
+  std::vector<float> facet_in;
+  double distance_sigma = 0;
+  size_t num_rays = 0;
+  // Walks stopped by the step limit (numerical trouble); should be 0.
+  size_t num_failed_walks = 0;
+};
+
+CellGraphWeights IntegrateVisibility(
+    const VisibilityIntegrationOptions& options, const MeshingInput& input,
+    const MeshingTriangulation& triangulation);
+
+// The 25th percentile of the finite edge lengths (of at most ~1M sampled
+// edges).
+double LowerQuartileEdgeLength(const MeshingTriangulation& triangulation);
+
+// Effective number of threads for `num_threads` (<= 0: all cores).
+int EffectiveNumThreads(int num_threads);
+
+}  // namespace colmap_lidar

@@ -1,0 +1,127 @@
+#include "src/mvs/depth_init.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "src/mvs/interpolation.h"
+#include "src/mvs/mvs_test_scene.h"
+
+namespace colmap_lidar {
+namespace {
+
+// A foreground plane at z = 2 with a square hole, a wall at z = 4 behind.
+PlaneScene HoleScene() {
+  PlaneScene scene;
+  TexturedPlane wall;
+  wall.origin = Eigen::Vector3d(0, 0, 4.0);
+  scene.planes.push_back(wall);
+  TexturedPlane front;
+  front.origin = Eigen::Vector3d(0, 0, 2.0);
+  front.has_hole = true;
+  front.hole_u_min = -0.3;
+  front.hole_u_max = 0.3;
+  front.hole_v_min = -0.3;
+  front.hole_v_max = 0.3;
+  scene.planes.push_back(front);
+  return scene;
+}
+
+struct Counts {
+  size_t kept = 0;
+  size_t wrong = 0;  // Depth off the visible surface by more than 10 cm.
+  size_t occluded = 0;
+};
+
+Counts CountWrong(double tolerance) {
+  const PlaneScene scene = HoleScene();
+  const int width = 160, height = 120;
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  std::vector<float> gt;
+  const MvsView view =
+      scene.Render("ref", K, Rigid3d(), width, height, &gt);
+  // The scanner sits 40 cm to the right of the camera: through the hole it
+  // sees parts of the wall that the camera sees covered by the front plane.
+  std::vector<Eigen::Vector3f> points, normals;
+  scene.Scan(Eigen::Vector3d(0.4, 0, 0), Eigen::Vector3d::UnitZ(), 50, 150,
+             0.8, 0.6, &points, &normals);
+  LidarPatchMatchOptions options;
+  options.occlusion_relative_tolerance = tolerance;
+  DepthInitStats stats;
+  const std::vector<DepthSample> samples =
+      ProjectLidarSamples(view, points, normals, options, &stats);
+  Counts counts;
+  counts.kept = samples.size();
+  counts.occluded = stats.num_lidar_occluded;
+  for (const DepthSample& sample : samples) {
+    const float truth = gt[sample.row * width + sample.col];
+    if (std::abs(sample.depth - truth) > 0.1f) ++counts.wrong;
+    // Normals face the camera: the planes' normal is -z in the camera.
+    EXPECT_LT(sample.normal.z(), -0.99f);
+  }
+  return counts;
+}
+
+TEST(DepthInit, NeighbourhoodCheckDropsLidarSeenThroughAGap) {
+  const Counts without_check = CountWrong(1e6);
+  const Counts with_check = CountWrong(0.05);
+  std::cout << "without check: " << without_check.kept << " kept, "
+            << without_check.wrong << " wrong; with check: " << with_check.kept
+            << " kept, " << with_check.wrong << " wrong, "
+            << with_check.occluded << " dropped" << std::endl;
+  EXPECT_GT(without_check.wrong, 20u);
+  EXPECT_LE(with_check.wrong, without_check.wrong / 20);
+  // Most samples survive.
+  EXPECT_GT(with_check.kept, without_check.kept * 8 / 10);
+}
+
+TEST(DepthInit, FeaturesOverrideLidarAndInterpolationFillsThePlane) {
+  const int width = 80, height = 60;
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  const MvsView view = MakeMvsView("v", K, Rigid3d(), width, height,
+                                   std::vector<float>(width * height, 0.5f));
+  // LIDAR points on the slanted plane z = 3 + 0.5 x.
+  std::vector<Eigen::Vector3f> points, normals;
+  const Eigen::Vector3f normal = Eigen::Vector3f(0.5f, 0, -1).normalized();
+  for (int r = 0; r < height; r += 6) {
+    for (int c = 0; c < width; c += 6) {
+      const Eigen::Vector3d ray = K.inverse() * Eigen::Vector3d(c, r, 1);
+      const double z = 3.0 / (1.0 - 0.5 * ray.x());
+      points.push_back((z * ray).cast<float>());
+      normals.push_back(-normal);  // Wrong side: must be flipped.
+    }
+  }
+  LidarPatchMatchOptions options;
+  const std::vector<DepthSample> lidar =
+      ProjectLidarSamples(view, points, normals, options);
+  ASSERT_EQ(lidar.size(), points.size());
+  const Eigen::Vector3f feature = points[12] * 1.01f;
+  const std::vector<DepthSample> merged =
+      MergeFeatureSamples(view, {feature}, lidar, options);
+  ASSERT_EQ(merged.size(), lidar.size());
+  size_t num_features = 0;
+  for (const DepthSample& sample : merged) {
+    if (sample.from_feature) {
+      ++num_features;
+      EXPECT_NEAR(sample.depth, feature.z(), 1e-5);
+      EXPECT_GT(sample.normal.dot(normal), 0.999f);
+    }
+  }
+  EXPECT_EQ(num_features, 1u);
+  const PlaneMap map = InterpolateSamples(view, lidar, options);
+  size_t num_checked = 0;
+  for (int r = 0; r <= 54; ++r) {
+    for (int c = 0; c <= 78; ++c) {
+      const size_t i = map.Index(r, c);
+      ASSERT_GT(map.depth[i], 0) << r << " " << c;
+      const Eigen::Vector3d ray = K.inverse() * Eigen::Vector3d(c, r, 1);
+      EXPECT_NEAR(map.depth[i], 3.0 / (1.0 - 0.5 * ray.x()), 1e-3);
+      EXPECT_GT(map.normal[i].dot(normal), 0.999f);
+      ++num_checked;
+    }
+  }
+  EXPECT_GT(num_checked, 4000u);
+}
+
+}  // namespace
+}  // namespace colmap_lidar

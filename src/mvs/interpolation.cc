@@ -1,0 +1,109 @@
+#include "src/mvs/interpolation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <opencv2/imgproc.hpp>
+
+namespace colmap_lidar {
+
+PlaneMap InterpolateSamples(const MvsView& view,
+                            const std::vector<DepthSample>& samples,
+                            const LidarPatchMatchOptions& options) {
+  PlaneMap map(view.width, view.height);
+  if (samples.empty()) {
+    return map;
+  }
+  std::unordered_map<int64_t, int> pixel_to_sample;
+  cv::Subdiv2D subdiv(cv::Rect(0, 0, view.width, view.height));
+  for (size_t k = 0; k < samples.size(); ++k) {
+    const int64_t key =
+        static_cast<int64_t>(samples[k].row) * view.width + samples[k].col;
+    if (pixel_to_sample.emplace(key, static_cast<int>(k)).second) {
+      subdiv.insert(cv::Point2f(static_cast<float>(samples[k].col),
+                                static_cast<float>(samples[k].row)));
+    }
+  }
+  std::vector<cv::Vec6f> triangles;
+  if (pixel_to_sample.size() >= 3) {
+    subdiv.getTriangleList(triangles);
+  }
+  const float max_ratio = static_cast<float>(options.interpolation_max_depth_ratio);
+  auto sample_at = [&](float x, float y) -> const DepthSample* {
+    if (x < 0 || y < 0 || x > view.width - 1 || y > view.height - 1) {
+      return nullptr;  // A virtual outer vertex of Subdiv2D.
+    }
+    const int64_t key = static_cast<int64_t>(std::lround(y)) * view.width +
+                        std::lround(x);
+    const auto it = pixel_to_sample.find(key);
+    return it == pixel_to_sample.end() ? nullptr : &samples[it->second];
+  };
+  for (const cv::Vec6f& triangle : triangles) {
+    const DepthSample* v[3] = {sample_at(triangle[0], triangle[1]),
+                               sample_at(triangle[2], triangle[3]),
+                               sample_at(triangle[4], triangle[5])};
+    if (!v[0] || !v[1] || !v[2]) continue;
+    const float x0 = v[0]->col, y0 = v[0]->row;
+    const float x1 = v[1]->col, y1 = v[1]->row;
+    const float x2 = v[2]->col, y2 = v[2]->row;
+    const float area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+    if (std::abs(area) < 1e-6f) continue;
+    const float min_depth = std::min({v[0]->depth, v[1]->depth, v[2]->depth});
+    const float max_depth = std::max({v[0]->depth, v[1]->depth, v[2]->depth});
+    const bool smooth = max_depth <= max_ratio * min_depth;
+    const int col_begin = std::max(0, static_cast<int>(std::floor(std::min({x0, x1, x2}))));
+    const int col_end = std::min(view.width - 1, static_cast<int>(std::ceil(std::max({x0, x1, x2}))));
+    const int row_begin = std::max(0, static_cast<int>(std::floor(std::min({y0, y1, y2}))));
+    const int row_end = std::min(view.height - 1, static_cast<int>(std::ceil(std::max({y0, y1, y2}))));
+    constexpr float kEps = -1e-4f;
+    for (int row = row_begin; row <= row_end; ++row) {
+      for (int col = col_begin; col <= col_end; ++col) {
+        const float x = static_cast<float>(col);
+        const float y = static_cast<float>(row);
+        const float b1 = ((x - x0) * (y2 - y0) - (x2 - x0) * (y - y0)) / area;
+        const float b2 = ((x1 - x0) * (y - y0) - (x - x0) * (y1 - y0)) / area;
+        const float b0 = 1.0f - b1 - b2;
+        if (b0 < kEps || b1 < kEps || b2 < kEps) continue;
+        const size_t i = map.Index(row, col);
+        if (map.depth[i] > 0) continue;  // Shared edge, already set.
+        const Eigen::Vector3f ray = view.Ray(y, x);
+        if (smooth) {
+          const float inv = b0 / v[0]->depth + b1 / v[1]->depth + b2 / v[2]->depth;
+          Eigen::Vector3f normal =
+              b0 * v[0]->normal + b1 * v[1]->normal + b2 * v[2]->normal;
+          if (normal.squaredNorm() < 1e-6f || normal.dot(ray) >= 0) {
+            normal = -ray.normalized();
+          }
+          map.depth[i] = 1.0f / inv;
+          map.normal[i] = normal.normalized();
+        } else {
+          const float b[3] = {b0, b1, b2};
+          const DepthSample& nearest = *v[std::max_element(b, b + 3) - b];
+          const Eigen::Vector3f point =
+              nearest.depth * view.Ray(static_cast<float>(nearest.row),
+                                       static_cast<float>(nearest.col));
+          const float denominator = nearest.normal.dot(ray);
+          float depth = denominator < -1e-3f
+                            ? nearest.normal.dot(point) / denominator
+                            : nearest.depth;
+          if (!(depth > 0) || depth > 2.0f * nearest.depth ||
+              depth < 0.5f * nearest.depth) {
+            depth = nearest.depth;
+          }
+          map.depth[i] = depth;
+          map.normal[i] = nearest.normal;
+        }
+      }
+    }
+  }
+  // Samples keep their exact values.
+  for (const DepthSample& sample : samples) {
+    const size_t i = map.Index(sample.row, sample.col);
+    map.depth[i] = sample.depth;
+    map.normal[i] = sample.normal;
+  }
+  return map;
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,25 @@
+// Densification of the depth samples to every pixel (paper section III-E,
+// initialisation): a 2D Delaunay triangulation of the sample pixels
+// (OpenCV Subdiv2D); inside a triangle, inverse depth is interpolated
+// linearly (exact for a plane seen in perspective) and the normals
+// barycentrically, unless the vertex depths differ by more than
+// interpolation_max_depth_ratio, in which case each pixel takes the plane of
+// its nearest vertex so that depth edges are not smeared. Pixels outside
+// the convex hull stay invalid (depth 0): PatchMatch starts them randomly.
+#pragma once
+
+#include <vector>
+
+#include "src/mvs/depth_init.h"
+#include "src/mvs/mvs_view.h"
+#include "src/mvs/patch_match_options.h"
+#include "src/mvs/plane_map.h"
+
+namespace colmap_lidar {
+
+// Returns a map of the view's size; cost is 0.
+PlaneMap InterpolateSamples(const MvsView& view,
+                            const std::vector<DepthSample>& samples,
+                            const LidarPatchMatchOptions& options);
+
+}  // namespace colmap_lidar

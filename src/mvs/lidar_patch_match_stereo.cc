@@ -1,0 +1,324 @@
+#include "src/mvs/lidar_patch_match_stereo.h"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <unordered_map>
+
+#include <glog/logging.h>
+
+#include "colmap_ext/mvs/stereo_config.h"
+#include "colmap_ext/mvs/workspace.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "src/mvs/interpolation.h"
+#include "src/mvs/map_filter.h"
+#include "src/mvs/ncc_cost.h"
+#include "src/mvs/patch_match.h"
+#include "src/mvs/source_views.h"
+
+namespace colmap_lidar {
+namespace {
+
+float Percentile(std::vector<float> values, double fraction) {
+  const size_t k = std::min(values.size() - 1,
+                            static_cast<size_t>(fraction * values.size()));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[k];
+}
+
+void CreateParentDir(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return;
+  const std::string dir = path.substr(0, slash);
+  // Creates nested folders one level at a time.
+  size_t pos = 0;
+  while ((pos = dir.find('/', pos + 1)) != std::string::npos) {
+    CreateDirIfNotExists(dir.substr(0, pos));
+  }
+  CreateDirIfNotExists(dir);
+}
+
+bool MapsExist(const DenseWorkspace& workspace, const std::string& name,
+               DenseMapType type) {
+  return ExistsFile(workspace.DepthMapPath(name, type)) &&
+         ExistsFile(workspace.NormalMapPath(name, type));
+}
+
+void WriteMaps(const DenseWorkspace& workspace, const std::string& name,
+               DenseMapType type, const PlaneMap& map) {
+  const std::string depth_path = workspace.DepthMapPath(name, type);
+  const std::string normal_path = workspace.NormalMapPath(name, type);
+  CreateParentDir(depth_path);
+  CreateParentDir(normal_path);
+  // Normal first: a depth map never exists without its normal map, which
+  // would abort stock fusion (colmap-formats.md 4.2).
+  ToNormalMap(map).Write(normal_path);
+  ToDepthMap(map).Write(depth_path);
+}
+
+// Views and maps loaded on demand, keeping only what the current reference
+// needs (bounded memory for long sequences).
+class WorkspaceCache {
+ public:
+  WorkspaceCache(const DenseWorkspace& workspace, const Reconstruction& model,
+                 int max_image_size)
+      : workspace_(workspace), model_(model), max_image_size_(max_image_size) {}
+
+  void Retain(const std::vector<int>& indices) {
+    for (auto it = views_.begin(); it != views_.end();) {
+      it = std::find(indices.begin(), indices.end(), it->first) == indices.end()
+               ? views_.erase(it)
+               : std::next(it);
+    }
+    for (auto it = maps_.begin(); it != maps_.end();) {
+      it = std::find(indices.begin(), indices.end(), it->first) == indices.end()
+               ? maps_.erase(it)
+               : std::next(it);
+    }
+  }
+
+  const MvsView& View(int idx) {
+    auto& view = views_[idx];
+    if (!view) {
+      const Image& image = model_.images[idx];
+      view = std::make_unique<MvsView>(LoadMvsView(
+          workspace_.ImagePath(image.name), model_.cameras.at(image.camera_id),
+          image, max_image_size_));
+    }
+    return *view;
+  }
+
+  // The photometric maps of image idx; nullptr when missing or of another
+  // size than the view.
+  const PlaneMap* PhotometricMap(int idx) {
+    auto it = maps_.find(idx);
+    if (it == maps_.end()) {
+      const std::string& name = model_.images[idx].name;
+      std::unique_ptr<PlaneMap> map;
+      if (MapsExist(workspace_, name, DenseMapType::kPhotometric)) {
+        map = std::make_unique<PlaneMap>(FromDenseMaps(
+            DepthMap::Read(workspace_.DepthMapPath(name, DenseMapType::kPhotometric)),
+            NormalMap::Read(
+                workspace_.NormalMapPath(name, DenseMapType::kPhotometric))));
+        const MvsView& view = View(idx);
+        if (map->width != view.width || map->height != view.height) {
+          LOG(WARNING) << "Photometric map of " << name << " is "
+                       << map->width << "x" << map->height
+                       << ", not the view's size; not used";
+          map.reset();
+        }
+      }
+      it = maps_.emplace(idx, std::move(map)).first;
+    }
+    return it->second.get();
+  }
+
+ private:
+  const DenseWorkspace& workspace_;
+  const Reconstruction& model_;
+  const int max_image_size_;
+  std::map<int, std::unique_ptr<MvsView>> views_;
+  std::map<int, std::unique_ptr<PlaneMap>> maps_;
+};
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+}  // namespace
+
+ReferenceInit InitializeReference(
+    const MvsView& ref, const std::vector<Eigen::Vector3f>& features_in_world,
+    const FusedLidarCloud* lidar, const LidarPatchMatchOptions& options) {
+  ReferenceInit init;
+  std::vector<DepthSample> lidar_samples;
+  if (lidar != nullptr) {
+    lidar_samples = ProjectLidarSamples(ref, lidar->points, lidar->normals,
+                                        options, &init.stats);
+  }
+  const std::vector<DepthSample> samples = MergeFeatureSamples(
+      ref, features_in_world, lidar_samples, options, &init.stats);
+  std::vector<float> depths;
+  for (const DepthSample& sample : samples) {
+    if (sample.from_feature || !options.RandomInit() ||
+        init.stats.num_features == 0) {
+      depths.push_back(sample.depth);
+    }
+  }
+  THROW_CHECK(!depths.empty(),
+              "view " << ref.name
+                      << " sees no sparse point and no LIDAR point: no depth "
+                         "range for PatchMatch");
+  init.depth_min = std::max(static_cast<float>(options.min_depth),
+                            Percentile(depths, 0.01) / 1.5f);
+  init.depth_max = std::max(init.depth_min * 1.01f, Percentile(depths, 0.99) * 1.5f);
+  if (options.RandomInit()) {
+    init.state = PlaneMap(ref.width, ref.height);
+  } else {
+    init.state = InterpolateSamples(ref, samples, options);
+    init.prior_depth = SamplesToPriorDepth(samples, ref.width, ref.height);
+  }
+  return init;
+}
+
+LidarPatchMatchSummary RunLidarPatchMatchStereo(
+    const std::string& workspace_path, const LidarPatchMatchOptions& options) {
+  THROW_CHECK(options.Check(), "invalid LidarPatchMatch options");
+  const auto start = std::chrono::steady_clock::now();
+  const DenseWorkspace workspace(workspace_path);
+  const Reconstruction model = workspace.ReadModel();
+  const std::vector<PatchMatchEntry> entries =
+      ReadPatchMatchConfig(workspace.PatchMatchConfigPath());
+  const std::string lidar_path = JoinPaths(workspace_path, "lidar_fused.ply");
+  FusedLidarCloud lidar;
+  const bool have_lidar = ExistsFile(lidar_path);
+  if (have_lidar) {
+    lidar = ReadFusedLidarCloud(lidar_path);
+  }
+  THROW_CHECK(have_lidar || options.RandomInit(),
+              "LidarPatchMatch.init lidar needs " << lidar_path
+                                                  << " (run lidar_fuser)");
+  LOG(INFO) << "PatchMatch on " << entries.size() << " reference images of "
+            << workspace_path << " (init " << options.init << ", "
+            << lidar.size() << " LIDAR voxels)";
+  const SourceViewSelector selector(model, lidar.visibility, lidar.points,
+                                    options);
+  std::unordered_map<std::string, int> name_to_idx;
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    name_to_idx[model.images[i].name] = static_cast<int>(i);
+  }
+
+  struct Job {
+    int ref_idx;
+    std::vector<int> srcs;
+  };
+  std::vector<Job> jobs;
+  LidarPatchMatchSummary summary;
+  for (const PatchMatchEntry& entry : entries) {
+    const auto it = name_to_idx.find(entry.ref_image_name);
+    THROW_CHECK(it != name_to_idx.end(),
+                "reference image " << entry.ref_image_name << " of "
+                                   << workspace.PatchMatchConfigPath()
+                                   << " is not in the workspace model");
+    Job job{it->second, selector.Select(it->second, entry)};
+    if (job.srcs.empty()) {
+      LOG(WARNING) << "Image " << entry.ref_image_name
+                   << " has no source view; skipped";
+      ++summary.num_without_sources;
+      continue;
+    }
+    jobs.push_back(std::move(job));
+  }
+  summary.num_references = static_cast<int>(jobs.size());
+
+  WorkspaceCache cache(workspace, model, options.max_image_size);
+  // Photometric pass.
+  for (size_t j = 0; j < jobs.size(); ++j) {
+    const Job& job = jobs[j];
+    const Image& image = model.images[job.ref_idx];
+    if (!options.overwrite &&
+        MapsExist(workspace, image.name, DenseMapType::kPhotometric)) {
+      ++summary.num_photometric_skipped;
+      LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
+                << ": photometric maps exist, skipped";
+      continue;
+    }
+    const auto image_start = std::chrono::steady_clock::now();
+    std::vector<int> needed = job.srcs;
+    needed.push_back(job.ref_idx);
+    cache.Retain(needed);
+    const MvsView& ref = cache.View(job.ref_idx);
+    std::vector<const MvsView*> srcs;
+    for (int s : job.srcs) srcs.push_back(&cache.View(s));
+    std::vector<Eigen::Vector3f> features;
+    for (const Point2D& point2D : image.points2D) {
+      if (point2D.point3D_id == kInvalidPoint3DId) continue;
+      const auto it = model.points3D.find(point2D.point3D_id);
+      if (it != model.points3D.end()) features.push_back(it->second.xyz.cast<float>());
+    }
+    ReferenceInit init = InitializeReference(
+        ref, features, have_lidar ? &lidar : nullptr, options);
+    const PatchCostComputer cost(ref, srcs, options);
+    PatchMatchProblem problem;
+    problem.cost = &cost;
+    problem.depth_min = init.depth_min;
+    problem.depth_max = init.depth_max;
+    problem.prior_depth = init.prior_depth.empty() ? nullptr : &init.prior_depth;
+    RunPatchMatch(problem, options, options.num_iterations,
+                  static_cast<uint64_t>(options.seed) * 7919 + job.ref_idx,
+                  &init.state);
+    const size_t kept =
+        FilterByCost(static_cast<float>(options.filter_max_cost), &init.state);
+    WriteMaps(workspace, image.name, DenseMapType::kPhotometric, init.state);
+    ++summary.num_photometric_computed;
+    LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
+              << ": photometric, " << srcs.size() << " sources, "
+              << init.stats.num_lidar_zbuffer - init.stats.num_lidar_occluded
+              << " LIDAR samples (" << init.stats.num_lidar_occluded
+              << " occluded), " << init.stats.num_features << " features, "
+              << kept << " valid pixels, " << Seconds(image_start) << " s";
+  }
+  // Geometric pass.
+  if (options.geom_consistency) {
+    for (size_t j = 0; j < jobs.size(); ++j) {
+      const Job& job = jobs[j];
+      const Image& image = model.images[job.ref_idx];
+      if (!options.overwrite &&
+          MapsExist(workspace, image.name, DenseMapType::kGeometric)) {
+        ++summary.num_geometric_skipped;
+        LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
+                  << ": geometric maps exist, skipped";
+        continue;
+      }
+      const auto image_start = std::chrono::steady_clock::now();
+      std::vector<int> needed = job.srcs;
+      needed.push_back(job.ref_idx);
+      cache.Retain(needed);
+      const MvsView& ref = cache.View(job.ref_idx);
+      std::vector<const MvsView*> srcs;
+      std::vector<const PlaneMap*> src_maps;
+      for (int s : job.srcs) {
+        srcs.push_back(&cache.View(s));
+        src_maps.push_back(cache.PhotometricMap(s));
+      }
+      const PlaneMap* ref_map = cache.PhotometricMap(job.ref_idx);
+      THROW_CHECK(ref_map != nullptr,
+                  "no usable photometric maps of " << image.name);
+      PlaneMap state = *ref_map;
+      PatchCostComputer cost(ref, srcs, options);
+      cost.SetSourceMaps(src_maps);
+      std::vector<float> depths;
+      for (float d : state.depth) {
+        if (d > 0) depths.push_back(d);
+      }
+      THROW_CHECK(!depths.empty(),
+                  "photometric depth map of " << image.name << " is empty");
+      PatchMatchProblem problem;
+      problem.cost = &cost;
+      problem.depth_min = std::max(static_cast<float>(options.min_depth),
+                                   Percentile(depths, 0.0) / 1.2f);
+      problem.depth_max = Percentile(depths, 1.0) * 1.2f;
+      RunPatchMatch(problem, options, options.num_geom_iterations,
+                    static_cast<uint64_t>(options.seed) * 7919 + job.ref_idx +
+                        1000000,
+                    &state);
+      FilterByCost(static_cast<float>(options.filter_max_cost +
+                                      options.geom_consistency_regularizer *
+                                          options.filter_max_reproj_error),
+                   &state);
+      const size_t kept = FilterByConsistency(cost, options, &state);
+      WriteMaps(workspace, image.name, DenseMapType::kGeometric, state);
+      ++summary.num_geometric_computed;
+      LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
+                << ": geometric, " << kept << " valid pixels, "
+                << Seconds(image_start) << " s";
+    }
+  }
+  summary.seconds = Seconds(start);
+  return summary;
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,59 @@
+// The driver of `colmap-lidar lidar_patch_match_stereo` (paper section
+// III-E): reads a dense workspace made by stock `colmap image_undistorter`
+// (plus lidar_fused.ply from lidar_fuser for the LIDAR initialisation),
+// computes depth and normal maps for every reference image of
+// stereo/patch-match.cfg, and writes them as COLMAP does:
+//   stereo/depth_maps/<name>.photometric.bin, stereo/normal_maps/<name>.
+//   photometric.bin (cost-filtered), and with geom_consistency the
+//   .geometric.bin pair (geometric pass + consistency filter),
+// so that stock `colmap stereo_fusion` fuses them (input_type photometric
+// or geometric). Maps that exist already are skipped unless overwrite is
+// set (resumable); every file is written atomically.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "src/lidar/lidar_fusion.h"
+#include "src/mvs/depth_init.h"
+#include "src/mvs/mvs_view.h"
+#include "src/mvs/patch_match_options.h"
+#include "src/mvs/plane_map.h"
+
+namespace colmap_lidar {
+
+struct ReferenceInit {
+  PlaneMap state;
+  // Depth samples per pixel (0: none), for the soft prior.
+  std::vector<float> prior_depth;
+  float depth_min = 0.0f;
+  float depth_max = 0.0f;
+  DepthInitStats stats;
+};
+
+// Initial planes of a reference view: with init "lidar", LIDAR samples
+// (occlusion-checked) and features merged and interpolated; with "random",
+// an empty state (PatchMatch randomises it). The depth range spans the 1st
+// to 99th percentile of the feature (and, with "lidar" or without features,
+// LIDAR) depths, widened by 1/1.5 and 1.5. `lidar` may be nullptr. Throws
+// naming the view when no depth is known to set the range.
+ReferenceInit InitializeReference(
+    const MvsView& ref, const std::vector<Eigen::Vector3f>& features_in_world,
+    const FusedLidarCloud* lidar, const LidarPatchMatchOptions& options);
+
+struct LidarPatchMatchSummary {
+  int num_references = 0;
+  int num_photometric_computed = 0;
+  int num_photometric_skipped = 0;
+  int num_geometric_computed = 0;
+  int num_geometric_skipped = 0;
+  int num_without_sources = 0;
+  double seconds = 0.0;
+};
+
+LidarPatchMatchSummary RunLidarPatchMatchStereo(
+    const std::string& workspace_path, const LidarPatchMatchOptions& options);
+
+}  // namespace colmap_lidar

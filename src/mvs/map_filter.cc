@@ -1,0 +1,51 @@
+#include "src/mvs/map_filter.h"
+
+#include "colmap_ext/util/logging.h"
+#include "src/mvs/parallel_rows.h"
+
+namespace colmap_lidar {
+
+size_t FilterByCost(float max_cost, PlaneMap* map) {
+  size_t kept = 0;
+  for (size_t i = 0; i < map->depth.size(); ++i) {
+    if (!(map->depth[i] > 0) || !(map->cost[i] <= max_cost)) {
+      map->depth[i] = 0.0f;
+      map->normal[i].setZero();
+    } else {
+      ++kept;
+    }
+  }
+  return kept;
+}
+
+size_t FilterByConsistency(const PatchCostComputer& cost,
+                           const LidarPatchMatchOptions& options,
+                           PlaneMap* map) {
+  THROW_CHECK(cost.HasSourceMaps(),
+              "consistency filter of " << cost.Ref().name
+                                       << " without source maps");
+  const float max_reproj = static_cast<float>(options.filter_max_reproj_error);
+  const float max_relative =
+      static_cast<float>(options.filter_max_relative_depth_error);
+  ParallelForRows(map->height, options.num_threads, [&](int row) {
+    for (int col = 0; col < map->width; ++col) {
+      const size_t i = map->Index(row, col);
+      const float depth = map->depth[i];
+      if (!(depth > 0)) continue;
+      int num_consistent = 0;
+      for (int s = 0; s < cost.NumSources(); ++s) {
+        if (cost.ReprojectionError(s, row, col, depth) <= max_reproj &&
+            cost.SourceDepthError(s, row, col, depth) <= max_relative) {
+          ++num_consistent;
+        }
+      }
+      if (num_consistent < options.filter_min_num_consistent) {
+        map->depth[i] = 0.0f;
+        map->normal[i].setZero();
+      }
+    }
+  });
+  return map->NumValid();
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,245 @@
+#include "src/mvs/ncc_cost.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "colmap_ext/util/logging.h"
+
+namespace colmap_lidar {
+namespace {
+
+constexpr float kMinVariance = 1e-5f;
+
+}  // namespace
+
+PatchCostComputer::PatchCostComputer(const MvsView& ref,
+                                     std::vector<const MvsView*> srcs,
+                                     const LidarPatchMatchOptions& options)
+    : ref_(ref),
+      inv_two_sigma_color_sq_(
+          static_cast<float>(1.0 / (2.0 * options.sigma_color *
+                                    options.sigma_color))),
+      geom_regularizer_(static_cast<float>(options.geom_consistency_regularizer)),
+      geom_max_cost_(static_cast<float>(options.geom_consistency_max_cost)) {
+  THROW_CHECK(!srcs.empty(), "view " << ref.name << " has no source views");
+  const Eigen::Matrix3f R_ref_t = ref.R.transpose();
+  for (const MvsView* src : srcs) {
+    SourceGeometry geometry;
+    geometry.view = src;
+    // src_from_ref = src_from_world * world_from_ref.
+    geometry.R = src->R * R_ref_t;
+    geometry.t = src->t - geometry.R * ref.t;
+    geometry.A = src->K * geometry.R * ref.K_inv;
+    geometry.b = src->K * geometry.t;
+    srcs_.push_back(geometry);
+  }
+  const int radius = options.window_radius;
+  const int step = options.window_step;
+  const double sigma_spatial =
+      options.sigma_spatial > 0 ? options.sigma_spatial : radius;
+  // Symmetric offsets: -radius, -radius + step, ... up to +radius.
+  for (int dy = -radius; dy <= radius; dy += step) {
+    for (int dx = -radius; dx <= radius; dx += step) {
+      offset_dx_.push_back(static_cast<float>(dx));
+      offset_dy_.push_back(static_cast<float>(dy));
+      spatial_weight_.push_back(static_cast<float>(
+          std::exp(-(dx * dx + dy * dy) / (2.0 * sigma_spatial * sigma_spatial))));
+    }
+  }
+  num_best_ = std::max(
+      1, static_cast<int>(std::ceil(options.best_views_fraction * srcs_.size())));
+}
+
+void PatchCostComputer::SetSourceMaps(std::vector<const PlaneMap*> src_maps) {
+  THROW_CHECK(src_maps.size() == srcs_.size(),
+              "view " << ref_.name << ": " << src_maps.size()
+                      << " source maps for " << srcs_.size() << " sources");
+  for (size_t i = 0; i < src_maps.size(); ++i) {
+    THROW_CHECK(src_maps[i] == nullptr ||
+                    (src_maps[i]->width == srcs_[i].view->width &&
+                     src_maps[i]->height == srcs_[i].view->height),
+                "source map of " << srcs_[i].view->name
+                                 << " differs in size from its image");
+  }
+  src_maps_ = std::move(src_maps);
+}
+
+void PatchCostComputer::PrepareRefPatch(int row, int col,
+                                        RefPatch* patch) const {
+  const size_t n = offset_dx_.size();
+  patch->row = row;
+  patch->col = col;
+  patch->dx.resize(n);
+  patch->dy.resize(n);
+  patch->value.resize(n);
+  patch->weight.resize(n);
+  const float center = ref_.At(row, col);
+  int num = 0;
+  float weight_sum = 0.0f;
+  for (size_t i = 0; i < n; ++i) {
+    const int r = row + static_cast<int>(offset_dy_[i]);
+    const int c = col + static_cast<int>(offset_dx_[i]);
+    if (r < 0 || c < 0 || r >= ref_.height || c >= ref_.width) {
+      continue;
+    }
+    const float value = ref_.At(r, c);
+    const float diff = value - center;
+    const float weight =
+        spatial_weight_[i] * std::exp(-diff * diff * inv_two_sigma_color_sq_);
+    patch->dx[num] = offset_dx_[i];
+    patch->dy[num] = offset_dy_[i];
+    patch->value[num] = value;
+    patch->weight[num] = weight;
+    weight_sum += weight;
+    ++num;
+  }
+  patch->num = num;
+  float mean = 0.0f;
+  float second = 0.0f;
+  for (int i = 0; i < num; ++i) {
+    patch->weight[i] /= weight_sum;
+    mean += patch->weight[i] * patch->value[i];
+    second += patch->weight[i] * patch->value[i] * patch->value[i];
+  }
+  patch->mean = mean;
+  patch->variance = second - mean * mean;
+}
+
+float PatchCostComputer::PhotometricCost(const RefPatch& patch, int src,
+                                         float depth,
+                                         const Eigen::Vector3f& normal) const {
+  if (patch.variance < kMinVariance || !(depth > 0)) {
+    return kMaxCost;
+  }
+  const SourceGeometry& geometry = srcs_[src];
+  const Eigen::Vector3f ray = ref_.Ray(patch.row, patch.col);
+  const float n_dot_x = depth * normal.dot(ray);
+  if (std::abs(n_dot_x) < 1e-6f) {
+    return kMaxCost;
+  }
+  // H = A + b c^T with c^T = n^T K_r^-1 / (n . X).
+  const Eigen::RowVector3f c = (normal.transpose() * ref_.K_inv) / n_dot_x;
+  const Eigen::Matrix3f H = geometry.A + geometry.b * c;
+  const Eigen::Vector3f q0 =
+      H * Eigen::Vector3f(static_cast<float>(patch.col),
+                          static_cast<float>(patch.row), 1.0f);
+  const Eigen::Vector3f hx = H.col(0);
+  const Eigen::Vector3f hy = H.col(1);
+  const MvsView& view = *geometry.view;
+  const float max_x = static_cast<float>(view.width - 1);
+  const float max_y = static_cast<float>(view.height - 1);
+  float sum_s = 0.0f;
+  float sum_ss = 0.0f;
+  float sum_rs = 0.0f;
+  for (int i = 0; i < patch.num; ++i) {
+    const Eigen::Vector3f q = q0 + patch.dx[i] * hx + patch.dy[i] * hy;
+    if (q.z() <= 0) {
+      return kMaxCost;
+    }
+    const float inv_z = 1.0f / q.z();
+    const float x = q.x() * inv_z;
+    const float y = q.y() * inv_z;
+    if (!(x >= 0 && y >= 0 && x <= max_x && y <= max_y)) {
+      return kMaxCost;
+    }
+    const float s = view.Sample(x, y);
+    const float w = patch.weight[i];
+    sum_s += w * s;
+    sum_ss += w * s * s;
+    sum_rs += w * patch.value[i] * s;
+  }
+  const float var_s = sum_ss - sum_s * sum_s;
+  if (var_s < kMinVariance) {
+    return kMaxCost;
+  }
+  const float cov = sum_rs - patch.mean * sum_s;
+  const float ncc = cov / std::sqrt(patch.variance * var_s);
+  return std::clamp(1.0f - ncc, 0.0f, kMaxCost);
+}
+
+float PatchCostComputer::ReprojectionError(int src, int row, int col,
+                                           float depth) const {
+  const PlaneMap* map = src_maps_.empty() ? nullptr : src_maps_[src];
+  if (map == nullptr) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const SourceGeometry& geometry = srcs_[src];
+  const MvsView& view = *geometry.view;
+  const Eigen::Vector3f point_in_ref = depth * ref_.Ray(row, col);
+  const Eigen::Vector3f point_in_src = geometry.R * point_in_ref + geometry.t;
+  if (point_in_src.z() <= 0) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const Eigen::Vector3f projection = view.K * point_in_src;
+  const float x = projection.x() / projection.z();
+  const float y = projection.y() / projection.z();
+  const int c = static_cast<int>(std::lround(x));
+  const int r = static_cast<int>(std::lround(y));
+  if (c < 0 || r < 0 || c >= map->width || r >= map->height) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const float src_depth = map->depth[map->Index(r, c)];
+  if (!(src_depth > 0)) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const Eigen::Vector3f back_in_src = src_depth * view.Ray(y, x);
+  const Eigen::Vector3f back_in_ref =
+      geometry.R.transpose() * (back_in_src - geometry.t);
+  if (back_in_ref.z() <= 0) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const Eigen::Vector3f back = ref_.K * back_in_ref;
+  const float du = back.x() / back.z() - col;
+  const float dv = back.y() / back.z() - row;
+  return std::sqrt(du * du + dv * dv);
+}
+
+float PatchCostComputer::SourceDepthError(int src, int row, int col,
+                                          float depth) const {
+  const PlaneMap* map = src_maps_.empty() ? nullptr : src_maps_[src];
+  if (map == nullptr) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const SourceGeometry& geometry = srcs_[src];
+  const Eigen::Vector3f point_in_src =
+      geometry.R * (depth * ref_.Ray(row, col)) + geometry.t;
+  if (point_in_src.z() <= 0) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const Eigen::Vector3f projection = geometry.view->K * point_in_src;
+  const int c = static_cast<int>(std::lround(projection.x() / projection.z()));
+  const int r = static_cast<int>(std::lround(projection.y() / projection.z()));
+  if (c < 0 || r < 0 || c >= map->width || r >= map->height) {
+    return std::numeric_limits<float>::infinity();
+  }
+  const float src_depth = map->depth[map->Index(r, c)];
+  if (!(src_depth > 0)) {
+    return std::numeric_limits<float>::infinity();
+  }
+  return std::abs(src_depth - point_in_src.z()) / point_in_src.z();
+}
+
+float PatchCostComputer::Cost(const RefPatch& patch, float depth,
+                              const Eigen::Vector3f& normal) const {
+  // Small fixed buffer: sources are few (max_num_src_images).
+  float costs[64];
+  const int n = std::min<int>(static_cast<int>(srcs_.size()), 64);
+  for (int s = 0; s < n; ++s) {
+    float cost = PhotometricCost(patch, s, depth, normal);
+    if (!src_maps_.empty() && src_maps_[s] != nullptr) {
+      const float error = ReprojectionError(s, patch.row, patch.col, depth);
+      cost += geom_regularizer_ * std::min(error, geom_max_cost_);
+    }
+    costs[s] = cost;
+  }
+  const int k = std::min(num_best_, n);
+  std::partial_sort(costs, costs + k, costs + n);
+  float sum = 0.0f;
+  for (int i = 0; i < k; ++i) {
+    sum += costs[i];
+  }
+  return sum / k;
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,99 @@
+// Photometric and geometric matching costs of a plane hypothesis, as in
+// COLMAP's PatchMatch (Schoenberger et al. 2016, section 4): the reference
+// window around a pixel is warped into each source view by the homography
+// of the hypothesised plane and compared with bilateral-weighted normalised
+// cross-correlation; in the geometric pass the forward-backward reprojection
+// error through the source view's depth map is added.
+//
+// Plane: the hypothesis (depth d, normal n) of reference pixel p defines the
+// point X = d K_r^-1 p and the plane n . Y = n . X (reference camera frame).
+// With src_from_ref = (R, t), a point Y on the plane maps to
+// R Y + t (n . Y) / (n . X), hence the homography
+//   H = K_s (R + t n^T / (n . X)) K_r^-1.
+//
+// Weighted NCC over window samples i with weights
+//   w_i = exp(-|dp_i|^2 / (2 sigma_s^2) - (I_r(p_i) - I_r(p))^2 / (2 sigma_c^2)):
+//   ncc = cov_w(r, s) / sqrt(var_w(r) var_w(s)), cost = 1 - ncc in [0, 2].
+// A window leaving the source image, a plane seen edge-on or a textureless
+// window (variance < 1e-5) costs kMaxCost.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "src/mvs/mvs_view.h"
+#include "src/mvs/patch_match_options.h"
+#include "src/mvs/plane_map.h"
+
+namespace colmap_lidar {
+
+constexpr float kMaxCost = 2.0f;
+
+// The reference window of one pixel: sample offsets, grey values and
+// bilateral weights, precomputed once per pixel for all hypotheses.
+struct RefPatch {
+  int row = 0;
+  int col = 0;
+  int num = 0;
+  std::vector<float> dx, dy, value, weight;
+  // Weighted mean and variance of the reference values; weights sum to 1.
+  float mean = 0.0f;
+  float variance = 0.0f;
+};
+
+class PatchCostComputer {
+ public:
+  // `ref` and `srcs` must outlive the computer.
+  PatchCostComputer(const MvsView& ref, std::vector<const MvsView*> srcs,
+                    const LidarPatchMatchOptions& options);
+
+  // Source-view depth/normal maps for the geometric term (same order as the
+  // sources; nullptr entries have no term). Maps must match the views' size.
+  void SetSourceMaps(std::vector<const PlaneMap*> src_maps);
+  bool HasSourceMaps() const { return !src_maps_.empty(); }
+
+  int NumSources() const { return static_cast<int>(srcs_.size()); }
+  const MvsView& Ref() const { return ref_; }
+
+  void PrepareRefPatch(int row, int col, RefPatch* patch) const;
+
+  // 1 - weighted NCC for source `src`, in [0, kMaxCost].
+  float PhotometricCost(const RefPatch& patch, int src, float depth,
+                        const Eigen::Vector3f& normal) const;
+  // Forward-backward reprojection error (pixels) of pixel (row, col) at
+  // `depth` through source `src`'s depth map; infinity when the point leaves
+  // the source image or hits an invalid source pixel.
+  float ReprojectionError(int src, int row, int col, float depth) const;
+  // Relative depth difference between the hypothesis seen from the source
+  // and the source map at the projection; infinity as above.
+  float SourceDepthError(int src, int row, int col, float depth) const;
+
+  // The aggregated cost: per view photometric (+ regulariser * min(error,
+  // max) when source maps are set), mean of the best
+  // ceil(best_views_fraction * n) views.
+  float Cost(const RefPatch& patch, float depth,
+             const Eigen::Vector3f& normal) const;
+
+ private:
+  struct SourceGeometry {
+    const MvsView* view = nullptr;
+    // src_from_ref.
+    Eigen::Matrix3f R;
+    Eigen::Vector3f t;
+    // K_s R K_r^-1 and K_s t.
+    Eigen::Matrix3f A;
+    Eigen::Vector3f b;
+  };
+
+  const MvsView& ref_;
+  std::vector<SourceGeometry> srcs_;
+  std::vector<const PlaneMap*> src_maps_;
+  std::vector<float> offset_dx_, offset_dy_, spatial_weight_;
+  float inv_two_sigma_color_sq_;
+  int num_best_;
+  float geom_regularizer_;
+  float geom_max_cost_;
+};
+
+}  // namespace colmap_lidar

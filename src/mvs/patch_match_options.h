@@ -1,0 +1,91 @@
+// Options of the LIDAR-initialised PatchMatch stereo (paper section III-E,
+// after Schoenberger et al. 2016 "Pixelwise View Selection for Unstructured
+// Multi-View Stereo" and Li et al.'s LIDAR initialisation). One struct for
+// the whole command; the engine files each read the fields they need.
+#pragma once
+
+#include <string>
+
+namespace colmap_lidar {
+
+struct LidarPatchMatchOptions {
+  // "lidar": depths/normals from sparse features and the fused LIDAR cloud
+  // (lidar_fused.ply), densified by Delaunay interpolation; "random": random
+  // depths and normals (COLMAP's photogrammetry baseline).
+  std::string init = "lidar";
+  // Maps are computed at this larger side at most (pixels); <= 0: full size.
+  int max_image_size = -1;
+  // Source views per reference at most (also caps "__auto__, N"), [1, 64].
+  int max_num_src_images = 5;
+  // Source views must see the reference's median-depth point under at least
+  // this triangulation angle, degrees, >= 0.
+  double min_triangulation_angle_deg = 1.0;
+  // Weight of a shared LIDAR voxel against a shared sparse point in the
+  // source-view score, >= 0.
+  double lidar_covisibility_weight = 0.1;
+
+  // Propagate also from the pixels 5 away along rows and columns (faster
+  // spreading of good planes, 8 instead of 4 candidates per pixel).
+  bool far_propagation = false;
+  // Photometric red-black iterations (propagation + random refinement), >= 1.
+  int num_iterations = 5;
+  // Run the geometric-consistency pass and write *.geometric.bin maps.
+  bool geom_consistency = true;
+  // Iterations of the geometric pass, >= 1.
+  int num_geom_iterations = 2;
+  // Weight of the forward-backward reprojection error (pixels) added to the
+  // per-view cost in the geometric pass, >= 0 (COLMAP: 0.3).
+  double geom_consistency_regularizer = 0.3;
+  // Reprojection errors are clamped to this in the cost, pixels, > 0.
+  double geom_consistency_max_cost = 3.0;
+
+  // NCC window: radius in pixels and sampling step, >= 1.
+  int window_radius = 4;
+  int window_step = 2;
+  // Bilateral weights: spatial sigma (pixels; <= 0: window_radius) and
+  // colour sigma (grey values in [0, 1]), > 0.
+  double sigma_spatial = -1.0;
+  double sigma_color = 0.2;
+  // The cost of a hypothesis is the mean of the best ceil(fraction * n)
+  // per-view costs (occlusion robustness), (0, 1].
+  double best_views_fraction = 0.5;
+
+  // Soft LIDAR prior: cost += weight * min(|d - d_lidar| / (d_lidar *
+  // tolerance), 1) where the pixel has a LIDAR/feature sample; 0: off.
+  double lidar_prior_weight = 0.0;
+  double lidar_prior_tolerance = 0.02;
+
+  // Initialisation: LIDAR samples are dropped unless their depth is at most
+  // (1 + occlusion_relative_tolerance) x the mean depth of the samples within
+  // occlusion_window_radius pixels (the paper's neighbourhood check).
+  int occlusion_window_radius = 5;
+  double occlusion_relative_tolerance = 0.05;
+  // Delaunay interpolation: a triangle whose vertex depths differ by more
+  // than this ratio takes each pixel from its nearest vertex's plane
+  // instead (no smearing across depth edges), > 1.
+  double interpolation_max_depth_ratio = 1.2;
+  // LIDAR points nearer than this to the camera are ignored, metres.
+  double min_depth = 0.1;
+
+  // Filtering: photometric cost above this (1 - NCC) makes a pixel invalid,
+  // (0, 2].
+  double filter_max_cost = 0.6;
+  // Geometric maps keep a pixel seen consistently by at least this many
+  // source views, >= 0.
+  int filter_min_num_consistent = 2;
+  // Consistency: reprojection error, pixels, and relative depth error.
+  double filter_max_reproj_error = 1.0;
+  double filter_max_relative_depth_error = 0.01;
+
+  // Threads; <= 0: all cores.
+  int num_threads = -1;
+  // Seed of the per-pixel random numbers (results do not depend on threads).
+  int seed = 0;
+  // Recompute maps that exist already (default: resume, skip them).
+  bool overwrite = false;
+
+  bool Check() const;
+  bool RandomInit() const { return init == "random"; }
+};
+
+}  // namespace colmap_lidar

@@ -1,0 +1,154 @@
+#include "src/synth/scene_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include "src/synth/ray_tracer.h"
+#include "src/synth/scene_presets.h"
+
+namespace colmap_lidar {
+namespace {
+
+// Within face 1 of the edge, the unit direction pointing away from the
+// edge: towards face 2's side for an inner corner, away from it for an
+// outer one.
+Eigen::Vector3d InFaceDirection(const CreaseEdge& edge, bool first) {
+  const Eigen::Vector3d& n = first ? edge.normal1 : edge.normal2;
+  const Eigen::Vector3d& other = first ? edge.normal2 : edge.normal1;
+  const Eigen::Vector3d projected = other - other.dot(n) * n;
+  return (edge.convex ? -1.0 : 1.0) * projected.normalized();
+}
+
+// True when, at fractions 0.25/0.5/0.75 along the edge, a ray cast from
+// 3 cm in front of each face, 1 cm away from the edge within the face, hits
+// that face head-on at 3 cm with the expected normal.
+bool EdgeIsCrease(const RayTracer& tracer, const CreaseEdge& edge) {
+  const double d = 0.03;
+  const double s = 0.01;
+  for (double fraction : {0.25, 0.5, 0.75}) {
+    const Eigen::Vector3d p = edge.start + fraction * (edge.end - edge.start);
+    for (bool first : {true, false}) {
+      const Eigen::Vector3d& n = first ? edge.normal1 : edge.normal2;
+      const Eigen::Vector3d origin = p + d * n + s * InFaceDirection(edge, first);
+      const RayHit hit = tracer.Intersect(origin, -n);
+      if (!hit.Valid() || std::abs(hit.distance - d) > 1e-4) return false;
+      if (tracer.mesh().normals[hit.triangle].cast<double>().dot(n) < 0.999) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+void CheckScene(const SynthScene& scene, size_t min_edges) {
+  ASSERT_GE(scene.crease_edges.size(), min_edges);
+  ASSERT_EQ(scene.mesh.materials.size(), scene.mesh.NumTriangles());
+  ASSERT_EQ(scene.mesh.normals.size(), scene.mesh.NumTriangles());
+  const RayTracer tracer(scene.mesh);
+  int num_convex = 0;
+  for (size_t i = 0; i < scene.crease_edges.size(); ++i) {
+    const CreaseEdge& edge = scene.crease_edges[i];
+    EXPECT_GE(edge.AngleDeg(), 20.0) << "edge " << i;
+    EXPECT_TRUE(EdgeIsCrease(tracer, edge))
+        << "edge " << i << " from " << edge.start.transpose() << " to "
+        << edge.end.transpose() << " convex " << edge.convex;
+    num_convex += edge.convex ? 1 : 0;
+  }
+  EXPECT_GT(num_convex, 0);
+  EXPECT_LT(num_convex, static_cast<int>(scene.crease_edges.size()));
+}
+
+TEST(SceneMesh, QuadCreaseEdgesLieOnCreases) {
+  CheckScene(BuildQuadScene(), 500);
+}
+
+TEST(SceneMesh, StreetCreaseEdgesLieOnCreases) {
+  CheckScene(BuildStreetScene(), 500);
+}
+
+TEST(SceneMesh, DisplacedEdgesAreRejected) {
+  // The checker must fail for edges that are not on a crease: shift every
+  // edge by 5 cm into the free space in front of it, or flip its convexity.
+  const SynthScene scene = BuildQuadScene();
+  const RayTracer tracer(scene.mesh);
+  int accepted_shifted = 0;
+  int accepted_flipped = 0;
+  for (const CreaseEdge& edge : scene.crease_edges) {
+    CreaseEdge shifted = edge;
+    const Eigen::Vector3d offset =
+        0.05 * (edge.normal1 + edge.normal2).normalized();
+    shifted.start += offset;
+    shifted.end += offset;
+    accepted_shifted += EdgeIsCrease(tracer, shifted) ? 1 : 0;
+    CreaseEdge flipped = edge;
+    flipped.convex = !edge.convex;
+    accepted_flipped += EdgeIsCrease(tracer, flipped) ? 1 : 0;
+  }
+  EXPECT_EQ(accepted_shifted, 0);
+  EXPECT_LT(accepted_flipped, static_cast<int>(scene.crease_edges.size()) / 20);
+}
+
+TEST(SceneMesh, BoxHasTwelveEdgesAndOutwardNormals) {
+  SceneBuilder builder;
+  builder.AddBox({0, 0, 1}, {1, 2, 3}, Material::kConcrete, 0, true);
+  EXPECT_EQ(builder.mesh().NumTriangles(), 12u);
+  EXPECT_EQ(builder.crease_edges().size(), 12u);
+  const Eigen::Vector3f center(0.5f, 1.0f, 2.0f);
+  for (size_t t = 0; t < builder.mesh().NumTriangles(); ++t) {
+    const Eigen::Vector3f& a =
+        builder.mesh().vertices[builder.mesh().triangles[t](0)];
+    EXPECT_GT(builder.mesh().normals[t].dot(a - center), 0.0f);
+  }
+  for (const CreaseEdge& edge : builder.crease_edges()) {
+    EXPECT_TRUE(edge.convex);
+    EXPECT_NEAR(edge.AngleDeg(), 90.0, 1e-9);
+  }
+  // On the ground: no bottom face, 4 concave ground lines.
+  SceneBuilder ground_builder;
+  ground_builder.AddBox({0, 0, 0}, {1, 1, 1}, Material::kConcrete, 0, true);
+  EXPECT_EQ(ground_builder.mesh().NumTriangles(), 10u);
+  int concave = 0;
+  for (const CreaseEdge& edge : ground_builder.crease_edges()) {
+    concave += edge.convex ? 0 : 1;
+  }
+  EXPECT_EQ(concave, 4);
+}
+
+TEST(SceneMesh, FacadeOpeningIsRecessed) {
+  SceneBuilder builder;
+  FacadeOpening window;
+  window.u_min = 1.0;
+  window.u_max = 2.0;
+  window.v_min = 1.0;
+  window.v_max = 2.5;
+  window.depth = 0.15;
+  builder.AddFacade({0, 0, 0}, Eigen::Vector3d::UnitX(),
+                    -Eigen::Vector3d::UnitY(), 3.0, 4.0, Material::kBrick, 0,
+                    {window});
+  const RayTracer tracer(builder.mesh());
+  // Through the window centre the ray stops 15 cm deeper than on the wall.
+  const RayHit wall = tracer.Intersect({0.5, -5, 1.5}, {0, 1, 0});
+  const RayHit glass = tracer.Intersect({1.5, -5, 1.75}, {0, 1, 0});
+  ASSERT_TRUE(wall.Valid());
+  ASSERT_TRUE(glass.Valid());
+  EXPECT_NEAR(wall.distance, 5.0, 1e-6);
+  EXPECT_NEAR(glass.distance, 5.15, 1e-6);
+  EXPECT_EQ(builder.mesh().materials[glass.triangle], Material::kGlass);
+  // 1 wall-ground line + 8 recess edges + 12 sill edges.
+  EXPECT_EQ(builder.crease_edges().size(), 21u);
+}
+
+TEST(SceneMesh, DistanceToSurface) {
+  SceneBuilder builder;
+  builder.AddTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, Material::kConcrete, 0);
+  const RayTracer tracer(builder.mesh());
+  EXPECT_NEAR(tracer.DistanceToSurface({0.2, 0.2, 0.5}), 0.5, 1e-7);
+  EXPECT_NEAR(tracer.DistanceToSurface({-1, 0, 0}), 1.0, 1e-7);
+  EXPECT_NEAR(tracer.DistanceToSurface({1, 1, 0}), std::sqrt(0.5), 1e-7);
+  EXPECT_NEAR(tracer.DistanceToSurface({0.5, -2, 0}), 2.0, 1e-7);
+  const RayHit hit = tracer.Intersect({0.25, 0.25, 3.0}, {0, 0, -2.0});
+  ASSERT_TRUE(hit.Valid());
+  EXPECT_NEAR(hit.distance, 1.5, 1e-12);
+}
+
+}  // namespace
+}  // namespace colmap_lidar

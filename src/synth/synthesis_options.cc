@@ -1,0 +1,47 @@
+#include "src/synth/synthesis_options.h"
+
+#include <glog/logging.h>
+
+namespace colmap_lidar {
+
+#define SYNTH_CHECK_OPTION(condition)                                  \
+  if (!(condition)) {                                                  \
+    LOG(ERROR) << "Invalid Synthesis option: check failed: " #condition; \
+    return false;                                                      \
+  }
+
+bool SynthesisOptions::Check() const {
+  if (preset != "quad" && preset != "street") {
+    LOG(ERROR) << "Synthesis.preset must be quad or street, got '" << preset
+               << "'";
+    return false;
+  }
+  SYNTH_CHECK_OPTION(num_frames >= 1);
+  SYNTH_CHECK_OPTION(image_width >= 8 && image_height >= 8);
+  SYNTH_CHECK_OPTION(horizontal_fov_deg > 0.0 && horizontal_fov_deg < 170.0);
+  SYNTH_CHECK_OPTION(supersampling >= 1 && supersampling <= 8);
+  SYNTH_CHECK_OPTION(image_noise_stddev >= 0.0);
+  SYNTH_CHECK_OPTION(sun_elevation_deg > 0.0 && sun_elevation_deg <= 90.0);
+  SYNTH_CHECK_OPTION(lidar_rings >= 1 && lidar_columns >= 1);
+  SYNTH_CHECK_OPTION(lidar_vertical_fov_min_deg >= -90.0 &&
+                     lidar_vertical_fov_max_deg <= 90.0 &&
+                     lidar_vertical_fov_min_deg < lidar_vertical_fov_max_deg);
+  SYNTH_CHECK_OPTION(lidar_range_noise_m >= 0.0);
+  SYNTH_CHECK_OPTION(lidar_min_range_m >= 0.0 &&
+                     lidar_min_range_m < lidar_max_range_m);
+  SYNTH_CHECK_OPTION(prior_translation_sigma_m >= 0.0);
+  SYNTH_CHECK_OPTION(prior_rotation_sigma_deg >= 0.0 &&
+                     prior_rotation_sigma_deg <= 90.0);
+  SYNTH_CHECK_OPTION(survey_num_stations >= 0);
+  SYNTH_CHECK_OPTION(survey_height_m > 0.0);
+  SYNTH_CHECK_OPTION(survey_angular_step_deg >= 0.01 &&
+                     survey_angular_step_deg <= 10.0);
+  SYNTH_CHECK_OPTION(survey_range_noise_m >= 0.0);
+  SYNTH_CHECK_OPTION(survey_voxel_size_m > 0.0);
+  SYNTH_CHECK_OPTION(survey_max_points >= 1);
+  return true;
+}
+
+#undef SYNTH_CHECK_OPTION
+
+}  // namespace colmap_lidar

@@ -1,0 +1,83 @@
+// Options of the synthetic camera + LIDAR dataset generator (issue 3): the
+// scene preset, the rig (a PINHOLE camera like the Intel RealSense D435i of
+// the Newer College Dataset and an Ouster-OS1-64-like LIDAR), the
+// trajectory, the noise models and the survey that gives reference.ply.
+//
+// Prior-pose noise model (Amblard et al., Sec. IV-A: "random translational
+// (Sigma_T = 0.5 m) and rotational noise (Sigma_R = 5 deg)"; the paper does
+// not spell out the distribution, so we fix it as follows). For each frame,
+// independently, with the camera pose world_from_cam = (R, c):
+//   c_prior = c + e,  e ~ N(0, prior_translation_sigma_m^2 * I_3)
+//     (independent Gaussian noise per world axis x, y, z);
+//   R_prior = Exp(theta * a) * R,  a uniform on the unit sphere,
+//     theta ~ N(0, (prior_rotation_sigma_deg * pi / 180)^2)
+//     (a rotation about a uniformly random axis through the camera centre,
+//     expressed in the world frame, with a zero-mean Gaussian angle).
+// Hence E[|e|^2] = 3 sigma_T^2 and E[theta^2] = sigma_R^2.
+#pragma once
+
+#include <string>
+
+namespace colmap_lidar {
+
+struct SynthesisOptions {
+  // Scene preset: "quad" (Newer-College-like courtyard, 30 x 20 m, enclosed
+  // by buildings) or "street" (a straight 12 m wide street canyon).
+  std::string preset = "quad";
+  // Number of frames (image + scan) along the trajectory.
+  int num_frames = 60;
+  // Seed of every random quantity (trajectory jitter, LIDAR, prior noise,
+  // image noise, survey). The scene geometry itself is fixed per preset.
+  int seed = 0;
+  // Worker threads; <= 0 uses all cores.
+  int num_threads = -1;
+  // Replace an existing non-empty output folder.
+  bool overwrite = false;
+
+  // Camera (PINHOLE, principal point at the image centre, square pixels).
+  int image_width = 848;
+  int image_height = 480;
+  // Horizontal field of view in degrees, (0, 170).
+  double horizontal_fov_deg = 90.0;
+  // Rays per pixel = supersampling^2 (box-filter anti-aliasing), >= 1.
+  int supersampling = 3;
+  // Gaussian sensor noise added to the 8-bit image, in grey levels.
+  double image_noise_stddev = 1.0;
+  // Sun elevation and azimuth (from +x towards +y) in degrees.
+  double sun_elevation_deg = 40.0;
+  double sun_azimuth_deg = 35.0;
+
+  // LIDAR (OS1-64-like): rings uniformly spaced over the vertical field of
+  // view, columns uniformly over 360 degrees of azimuth.
+  int lidar_rings = 64;
+  int lidar_columns = 1024;
+  double lidar_vertical_fov_min_deg = -16.6;
+  double lidar_vertical_fov_max_deg = 16.6;
+  // Standard deviation of the Gaussian range noise, metres (>= 0).
+  double lidar_range_noise_m = 0.015;
+  // Returns closer than min or farther than max range are dropped, metres.
+  double lidar_min_range_m = 0.5;
+  double lidar_max_range_m = 100.0;
+
+  // Prior-pose noise (see the model above).
+  double prior_translation_sigma_m = 0.5;
+  double prior_rotation_sigma_deg = 5.0;
+
+  // Survey (reference.ply): tripod stations inside the scene at
+  // survey_height_m, spherical scans with this angular step, Gaussian range
+  // noise, then one point per voxel of survey_voxel_size_m, at most
+  // survey_max_points (random subsample beyond).
+  int survey_num_stations = 4;
+  double survey_height_m = 1.5;
+  double survey_angular_step_deg = 0.1;
+  double survey_range_noise_m = 0.002;
+  double survey_voxel_size_m = 0.02;
+  int survey_max_points = 3000000;
+
+  // Also write ground_truth/depth_maps/<frame>.bin.
+  bool write_depth_maps = true;
+
+  bool Check() const;
+};
+
+}  // namespace colmap_lidar

@@ -1,0 +1,361 @@
+#include "src/synth/synthesize.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "colmap_ext/mvs/dense_maps.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
+#include "src/dataset/calibration.h"
+#include "src/dataset/poses.h"
+#include "src/lidar/scan_io.h"
+#include "src/synth/lidar_simulator.h"
+#include "src/synth/ray_tracer.h"
+#include "src/synth/renderer.h"
+#include "src/synth/scene_presets.h"
+#include "src/synth/trajectory.h"
+
+namespace colmap_lidar {
+namespace {
+
+std::string PriorNoiseComment(const SynthesisOptions& options) {
+  std::ostringstream comment;
+  comment << "Synthetic prior poses (world_from_cam, frame tx ty tz qx qy qz "
+             "qw): the ground truth with\n"
+          << "per-axis Gaussian noise of std "
+          << options.prior_translation_sigma_m
+          << " m on the camera centre and a rotation about a uniformly\n"
+          << "random axis by a Gaussian angle of std "
+          << options.prior_rotation_sigma_deg
+          << " deg (R_prior = Exp(angle * axis) * R_gt), seed "
+          << options.seed << ".";
+  return comment.str();
+}
+
+std::string FormatOptions(const SynthesisOptions& o) {
+  std::ostringstream out;
+  out << std::setprecision(17);
+  out << "preset = " << o.preset << "\n"
+      << "num_frames = " << o.num_frames << "\n"
+      << "seed = " << o.seed << "\n"
+      << "image_width = " << o.image_width << "\n"
+      << "image_height = " << o.image_height << "\n"
+      << "horizontal_fov_deg = " << o.horizontal_fov_deg << "\n"
+      << "supersampling = " << o.supersampling << "\n"
+      << "image_noise_stddev = " << o.image_noise_stddev << "\n"
+      << "sun_elevation_deg = " << o.sun_elevation_deg << "\n"
+      << "sun_azimuth_deg = " << o.sun_azimuth_deg << "\n"
+      << "lidar_rings = " << o.lidar_rings << "\n"
+      << "lidar_columns = " << o.lidar_columns << "\n"
+      << "lidar_vertical_fov_min_deg = " << o.lidar_vertical_fov_min_deg
+      << "\n"
+      << "lidar_vertical_fov_max_deg = " << o.lidar_vertical_fov_max_deg
+      << "\n"
+      << "lidar_range_noise_m = " << o.lidar_range_noise_m << "\n"
+      << "lidar_min_range_m = " << o.lidar_min_range_m << "\n"
+      << "lidar_max_range_m = " << o.lidar_max_range_m << "\n"
+      << "prior_translation_sigma_m = " << o.prior_translation_sigma_m << "\n"
+      << "prior_rotation_sigma_deg = " << o.prior_rotation_sigma_deg << "\n"
+      << "survey_num_stations = " << o.survey_num_stations << "\n"
+      << "survey_height_m = " << o.survey_height_m << "\n"
+      << "survey_angular_step_deg = " << o.survey_angular_step_deg << "\n"
+      << "survey_range_noise_m = " << o.survey_range_noise_m << "\n"
+      << "survey_voxel_size_m = " << o.survey_voxel_size_m << "\n"
+      << "survey_max_points = " << o.survey_max_points << "\n"
+      << "write_depth_maps = " << o.write_depth_maps << "\n";
+  return out.str();
+}
+
+std::string GroundTruthReadme(const SynthesisOptions& options,
+                              const SynthScene& scene,
+                              const std::vector<Eigen::Vector3d>& stations) {
+  std::ostringstream out;
+  out << "# Synthetic dataset `" << scene.name
+      << "` (colmap-lidar synthesize)\n\n"
+      << "World frame: metres, z up, ground plane z = 0. Camera frame: x "
+         "right, y down, z forward.\n"
+      << "Rig layout: docs/dataset-format.md (calibration.yaml, images/, "
+         "lidar/, poses_*.txt, reference.ply).\n\n"
+      << "## Files\n"
+      << "- `poses_gt.txt`: exact camera poses (world_from_cam).\n"
+      << "- `poses_prior.txt`: " << PriorNoiseComment(options) << "\n"
+      << "- `lidar/<frame>.ply`: Ouster-OS1-like scan in the LIDAR frame (x "
+         "forward, y left, z up), x y z float32, intensity float32 in [0, 1] "
+         "(albedo x |cos incidence|), ring uint16 (0 = lowest beam); range "
+         "noise Gaussian, std "
+      << options.lidar_range_noise_m
+      << " m along the beam. world_from_lidar = world_from_cam * "
+         "cam_from_lidar (p_cam = cam_from_lidar * p_lidar).\n"
+      << "- `reference.ply`: simulated survey from " << stations.size()
+      << " tripod stations (world frame, x y z float32), range noise std "
+      << options.survey_range_noise_m << " m, one point per "
+      << options.survey_voxel_size_m
+      << " m voxel; only surfaces seen from the stations.\n"
+      << "- `ground_truth/scene.ply`: the scene mesh (vertex x y z float32, "
+         "material uchar; faces). Materials: ";
+  for (int m = 0; m < kNumMaterials; ++m) {
+    out << (m > 0 ? ", " : "") << m << " = "
+        << MaterialName(static_cast<Material>(m));
+  }
+  out << ".\n"
+      << "- `ground_truth/crease_edges.txt`: 3D segments where two planar "
+         "surfaces meet at an angle (building corners and roof lines, "
+         "wall-ground lines, window/door recess lips and backs, sills, "
+         "boxes, cylinder rims), on surfaces facing the courtyard/street; one "
+         "per line `x1 y1 z1 x2 y2 z2 n1x n1y n1z n2x n2y n2z convex "
+         "angle_deg` (outward normals of the two faces; convex 1 = outer "
+         "corner).\n"
+      << "- `ground_truth/depth_maps/<frame>.bin`: COLMAP Mat (`W&H&1&` + "
+         "float32), camera-frame z-depth of the ray through pixel (col, row) "
+         "WITHOUT +0.5 (COLMAP's MVS convention: X_cam = depth * "
+         "K^-1 [col, row, 1]); 0 where the ray hits nothing.\n"
+      << "- Images: pixel (col, row) is the average of "
+      << options.supersampling * options.supersampling
+      << " rays inside [col, col+1] x [row, row+1] (SfM convention, centre "
+         "at +0.5), Lambertian sun + sky shading with hard shadows, gamma "
+         "2.2, Gaussian noise std "
+      << options.image_noise_stddev << " grey levels.\n\n"
+      << "## Survey stations (world)\n";
+  for (const Eigen::Vector3d& station : stations) {
+    out << "- " << station.x() << " " << station.y() << " " << station.z()
+        << "\n";
+  }
+  out << "\n## Options\n```\n" << FormatOptions(options) << "```\n";
+  return out.str();
+}
+
+bool IsNonEmptyDir(const std::string& path) {
+  return ExistsDir(path) && !std::filesystem::is_empty(path);
+}
+
+}  // namespace
+
+Camera SynthCamera(const SynthesisOptions& options) {
+  const double focal = 0.5 * options.image_width /
+                       std::tan(0.5 * options.horizontal_fov_deg * M_PI / 180.0);
+  return Camera::FromModelName(
+      "PINHOLE", options.image_width, options.image_height,
+      {focal, focal, 0.5 * options.image_width, 0.5 * options.image_height});
+}
+
+Rigid3d SynthCamFromLidar() {
+  Eigen::Matrix3d cam_from_lidar_rotation;
+  cam_from_lidar_rotation << 0, -1, 0,  //
+      0, 0, -1,                         //
+      1, 0, 0;
+  // The LIDAR origin in the camera frame: 10 cm up (-y), 4 cm behind (-z).
+  return Rigid3d(Eigen::Quaterniond(cam_from_lidar_rotation),
+                 Eigen::Vector3d(0.0, -0.10, -0.04));
+}
+
+std::string SynthFrameName(int frame_index) {
+  std::ostringstream name;
+  name << std::setw(6) << std::setfill('0') << frame_index;
+  return name.str();
+}
+
+void WriteCreaseEdges(const std::string& path,
+                      const std::vector<CreaseEdge>& edges) {
+  WriteFileAtomically(
+      path,
+      [&](std::ostream& out) {
+        out << "# Crease edges (world frame, metres): x1 y1 z1 x2 y2 z2 n1x "
+               "n1y n1z n2x n2y n2z convex angle_deg\n";
+        out << "# n1, n2: outward unit normals of the two faces; convex 1 = "
+               "outer corner, 0 = inner corner.\n";
+        out << "# Number of edges: " << edges.size() << "\n";
+        out << std::setprecision(9);
+        for (const CreaseEdge& edge : edges) {
+          out << edge.start.x() << " " << edge.start.y() << " "
+              << edge.start.z() << " " << edge.end.x() << " " << edge.end.y()
+              << " " << edge.end.z() << " " << edge.normal1.x() << " "
+              << edge.normal1.y() << " " << edge.normal1.z() << " "
+              << edge.normal2.x() << " " << edge.normal2.y() << " "
+              << edge.normal2.z() << " " << (edge.convex ? 1 : 0) << " "
+              << edge.AngleDeg() << "\n";
+        }
+      },
+      /*binary=*/false);
+}
+
+std::vector<CreaseEdge> ReadCreaseEdges(const std::string& path) {
+  std::istringstream in(ReadTextFile(path));
+  std::vector<CreaseEdge> edges;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    CreaseEdge edge;
+    int convex = 0;
+    double angle = 0.0;
+    fields >> edge.start.x() >> edge.start.y() >> edge.start.z() >>
+        edge.end.x() >> edge.end.y() >> edge.end.z() >> edge.normal1.x() >>
+        edge.normal1.y() >> edge.normal1.z() >> edge.normal2.x() >>
+        edge.normal2.y() >> edge.normal2.z() >> convex >> angle;
+    THROW_CHECK(!fields.fail(), "Malformed crease edge in " << path << " line "
+                                                            << line_number);
+    edge.convex = convex != 0;
+    edges.push_back(edge);
+  }
+  return edges;
+}
+
+void WriteSceneMesh(const std::string& path, const TriangleMesh& mesh) {
+  PlyData ply;
+  std::vector<double> xs, ys, zs, materials;
+  const std::vector<Material> vertex_materials = mesh.VertexMaterials();
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    xs.push_back(mesh.vertices[i].x());
+    ys.push_back(mesh.vertices[i].y());
+    zs.push_back(mesh.vertices[i].z());
+    materials.push_back(static_cast<double>(vertex_materials[i]));
+  }
+  ply.AddColumn("x", PlyScalarType::kFloat32, std::move(xs));
+  ply.AddColumn("y", PlyScalarType::kFloat32, std::move(ys));
+  ply.AddColumn("z", PlyScalarType::kFloat32, std::move(zs));
+  ply.AddColumn("material", PlyScalarType::kUInt8, std::move(materials));
+  for (const Eigen::Vector3i& triangle : mesh.triangles) {
+    ply.faces.push_back({static_cast<uint32_t>(triangle(0)),
+                         static_cast<uint32_t>(triangle(1)),
+                         static_cast<uint32_t>(triangle(2))});
+  }
+  WritePly(path, ply);
+}
+
+SynthesisSummary SynthesizeDataset(const SynthesisOptions& options,
+                                   const std::string& output_path) {
+  const auto start_time = std::chrono::steady_clock::now();
+  THROW_CHECK(options.Check(), "Invalid Synthesis options (see the log)");
+  THROW_CHECK(!output_path.empty(), "Empty output path");
+  THROW_CHECK(options.overwrite || !IsNonEmptyDir(output_path),
+              "Output folder " << output_path
+                               << " exists and is not empty; pass "
+                                  "--Synthesis.overwrite 1 to replace it");
+  THROW_CHECK(!ExistsFile(output_path) || ExistsDir(output_path),
+              "Output path " << output_path << " is a file");
+
+  const SynthScene scene = BuildScene(options.preset);
+  const RayTracer tracer(scene.mesh);
+  LOG(INFO) << "Scene " << scene.name << ": " << scene.mesh.NumTriangles()
+            << " triangles, " << scene.crease_edges.size() << " crease edges";
+
+  const Camera camera = SynthCamera(options);
+  const Rigid3d cam_from_lidar = SynthCamFromLidar();
+  const std::vector<Rigid3d> gt_poses =
+      GenerateTrajectory(scene.path, options.num_frames, options.seed);
+  const std::vector<Rigid3d> prior_poses =
+      PerturbPoses(gt_poses, options.prior_translation_sigma_m,
+                   options.prior_rotation_sigma_deg, options.seed);
+
+  StagedDirectory staged(output_path);
+  const std::string root = staged.path();
+  const std::string image_dir = JoinPaths(root, "images");
+  const std::string lidar_dir = JoinPaths(root, "lidar");
+  const std::string truth_dir = JoinPaths(root, "ground_truth");
+  const std::string depth_dir = JoinPaths(truth_dir, "depth_maps");
+  for (const std::string& dir : {image_dir, lidar_dir, truth_dir}) {
+    CreateDirIfNotExists(dir);
+  }
+  if (options.write_depth_maps) CreateDirIfNotExists(depth_dir);
+
+  SynthesisSummary summary;
+  summary.num_frames = options.num_frames;
+  summary.num_triangles = scene.mesh.NumTriangles();
+  summary.num_crease_edges = scene.crease_edges.size();
+  std::vector<FramePose> gt_frames;
+  std::vector<FramePose> prior_frames;
+  for (int i = 0; i < options.num_frames; ++i) {
+    const std::string frame = SynthFrameName(i);
+    const RenderedFrame rendered = RenderFrame(
+        tracer, camera, gt_poses[i], options, i, options.write_depth_maps);
+    const std::string image_path = JoinPaths(image_dir, frame + ".png");
+    THROW_CHECK(cv::imwrite(image_path, rendered.image),
+                "Cannot write " << image_path);
+    if (options.write_depth_maps) {
+      DepthMap depth_map(camera.width, camera.height);
+      for (int row = 0; row < rendered.depth.rows; ++row) {
+        for (int col = 0; col < rendered.depth.cols; ++col) {
+          depth_map.Set(row, col, rendered.depth.at<float>(row, col));
+        }
+      }
+      depth_map.Write(JoinPaths(depth_dir, frame + ".bin"));
+    }
+    // p_world = world_from_cam * cam_from_lidar * p_lidar.
+    const Rigid3d world_from_lidar = gt_poses[i] * cam_from_lidar;
+    const LidarScan scan =
+        SimulateLidarScan(tracer, world_from_lidar, options, i);
+    summary.num_lidar_points += scan.size();
+    WriteLidarScanPly(JoinPaths(lidar_dir, frame + ".ply"), scan);
+    gt_frames.push_back({frame, gt_poses[i]});
+    prior_frames.push_back({frame, prior_poses[i]});
+    LOG(INFO) << "Frame " << frame << ": image, " << scan.size()
+              << " LIDAR points";
+  }
+
+  RigCalibration calibration;
+  calibration.camera = camera;
+  calibration.cam_from_lidar = cam_from_lidar;
+  LidarDescription lidar;
+  lidar.rings = options.lidar_rings;
+  lidar.vertical_fov_min_deg = options.lidar_vertical_fov_min_deg;
+  lidar.vertical_fov_max_deg = options.lidar_vertical_fov_max_deg;
+  lidar.range_noise_m = options.lidar_range_noise_m;
+  calibration.lidar = lidar;
+  WriteCalibration(JoinPaths(root, "calibration.yaml"), calibration);
+  WritePoses(JoinPaths(root, "poses_gt.txt"), gt_frames,
+             "Synthetic ground-truth poses (world_from_cam), preset " +
+                 scene.name + ".");
+  WritePoses(JoinPaths(root, "poses_prior.txt"), prior_frames,
+             PriorNoiseComment(options));
+
+  std::vector<Eigen::Vector3d> stations;
+  for (int s = 0; s < options.survey_num_stations; ++s) {
+    const Eigen::Vector2d& xy =
+        scene.survey_stations[s % scene.survey_stations.size()];
+    // Stations beyond the preset's list are shifted by 1 m per round.
+    const double shift =
+        static_cast<double>(s / scene.survey_stations.size());
+    stations.emplace_back(xy.x() + shift, xy.y(), options.survey_height_m);
+  }
+  if (!stations.empty()) {
+    const std::vector<Eigen::Vector3f> reference =
+        SimulateSurvey(tracer, stations, options);
+    summary.num_reference_points = reference.size();
+    PlyData ply;
+    for (int k = 0; k < 3; ++k) {
+      std::vector<double> values(reference.size());
+      for (size_t i = 0; i < reference.size(); ++i) values[i] = reference[i](k);
+      ply.AddColumn(k == 0 ? "x" : (k == 1 ? "y" : "z"),
+                    PlyScalarType::kFloat32, std::move(values));
+    }
+    WritePly(JoinPaths(root, "reference.ply"), ply);
+  }
+
+  WriteSceneMesh(JoinPaths(truth_dir, "scene.ply"), scene.mesh);
+  WriteCreaseEdges(JoinPaths(truth_dir, "crease_edges.txt"),
+                   scene.crease_edges);
+  const std::string readme = GroundTruthReadme(options, scene, stations);
+  WriteFileAtomically(
+      JoinPaths(truth_dir, "README.md"),
+      [&](std::ostream& out) { out << readme; }, /*binary=*/false);
+
+  staged.Commit();
+  summary.seconds = std::chrono::duration<double>(
+                        std::chrono::steady_clock::now() - start_time)
+                        .count();
+  LOG(INFO) << "Synthesised " << summary.num_frames << " frames, "
+            << summary.num_lidar_points << " LIDAR points, "
+            << summary.num_reference_points << " reference points in "
+            << summary.seconds << " s into " << output_path;
+  return summary;
+}
+
+}  // namespace colmap_lidar

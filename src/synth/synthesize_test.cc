@@ -1,0 +1,186 @@
+#include "src/synth/synthesize.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "colmap_ext/mvs/dense_maps.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/ply.h"
+#include "colmap_ext/util/testing.h"
+#include "src/dataset/calibration.h"
+#include "src/dataset/poses.h"
+#include "src/lidar/scan_io.h"
+
+namespace colmap_lidar {
+namespace {
+
+SynthesisOptions TinyOptions() {
+  SynthesisOptions options;
+  options.num_frames = 3;
+  options.image_width = 96;
+  options.image_height = 64;
+  options.supersampling = 1;
+  options.lidar_rings = 16;
+  options.lidar_columns = 256;
+  options.survey_num_stations = 1;
+  options.survey_angular_step_deg = 1.0;
+  options.survey_voxel_size_m = 0.1;
+  options.num_threads = 2;
+  return options;
+}
+
+TEST(Synthesize, WritesACompleteDataset) {
+  const std::string dir = JoinPaths(testing::CreateTestDir(), "quad");
+  const SynthesisOptions options = TinyOptions();
+  const SynthesisSummary summary = SynthesizeDataset(options, dir);
+  EXPECT_EQ(summary.num_frames, 3);
+  EXPECT_GT(summary.num_reference_points, 1000u);
+  EXPECT_GT(summary.num_crease_edges, 500u);
+
+  const RigCalibration calibration =
+      ReadCalibration(JoinPaths(dir, "calibration.yaml"));
+  EXPECT_EQ(calibration.camera.ModelName(), "PINHOLE");
+  EXPECT_EQ(calibration.camera.width, 96u);
+  ASSERT_EQ(calibration.camera.params.size(), 4u);
+  EXPECT_NEAR(calibration.camera.params[0], 48.0, 1e-9);  // 90 deg HFOV.
+  EXPECT_NEAR(calibration.camera.params[3], 32.0, 1e-9);
+  ASSERT_TRUE(calibration.lidar.has_value());
+  EXPECT_EQ(calibration.lidar->rings, 16);
+  EXPECT_TRUE(calibration.cam_from_lidar.translation.isApprox(
+      SynthCamFromLidar().translation, 1e-12));
+
+  const std::vector<FramePose> gt = ReadPoses(JoinPaths(dir, "poses_gt.txt"));
+  const std::vector<FramePose> prior =
+      ReadPoses(JoinPaths(dir, "poses_prior.txt"));
+  ASSERT_EQ(gt.size(), 3u);
+  ASSERT_EQ(prior.size(), 3u);
+  EXPECT_EQ(gt[2].frame, "000002");
+  EXPECT_GT((gt[0].world_from_cam.translation -
+             prior[0].world_from_cam.translation).norm(), 1e-3);
+
+  size_t num_lidar_points = 0;
+  for (const FramePose& pose : gt) {
+    const cv::Mat image =
+        cv::imread(JoinPaths(dir, "images/" + pose.frame + ".png"),
+                   cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(image.empty());
+    EXPECT_EQ(image.cols, 96);
+    EXPECT_EQ(image.rows, 64);
+    EXPECT_EQ(image.channels(), 3);
+    const LidarScan scan =
+        ReadLidarScan(JoinPaths(dir, "lidar/" + pose.frame + ".ply"));
+    EXPECT_TRUE(scan.HasRings());
+    EXPECT_TRUE(scan.HasIntensities());
+    num_lidar_points += scan.size();
+    const DepthMap depth = DepthMap::Read(
+        JoinPaths(dir, "ground_truth/depth_maps/" + pose.frame + ".bin"));
+    EXPECT_EQ(depth.GetWidth(), 96u);
+    EXPECT_EQ(depth.GetHeight(), 64u);
+    EXPECT_GT(depth.NumValid(), 96u * 64u / 2);
+  }
+  EXPECT_EQ(num_lidar_points, summary.num_lidar_points);
+
+  EXPECT_EQ(ReadPly(JoinPaths(dir, "reference.ply")).NumVertices(),
+            summary.num_reference_points);
+  const PlyData mesh = ReadPly(JoinPaths(dir, "ground_truth/scene.ply"));
+  EXPECT_EQ(mesh.faces.size(), summary.num_triangles);
+  EXPECT_NE(mesh.FindColumn("material"), nullptr);
+  const std::vector<CreaseEdge> edges =
+      ReadCreaseEdges(JoinPaths(dir, "ground_truth/crease_edges.txt"));
+  EXPECT_EQ(edges.size(), summary.num_crease_edges);
+  EXPECT_TRUE(ExistsFile(JoinPaths(dir, "ground_truth/README.md")));
+}
+
+// The two sensors agree as the files say they do: each scan, taken to the
+// camera with calibration.yaml's cam_from_lidar (p_cam = T * p_lidar), lands
+// on the ground-truth depth of that frame's image. Read from the files only,
+// as a user of the dataset would.
+TEST(Synthesize, LidarAndCameraAgreeThroughTheCalibration) {
+  const std::string dir = JoinPaths(testing::CreateTestDir(), "quad");
+  SynthesisOptions options = TinyOptions();
+  options.image_width = 212;
+  options.image_height = 120;
+  options.lidar_range_noise_m = 0.0;
+  options.survey_num_stations = 0;
+  SynthesizeDataset(options, dir);
+  const RigCalibration calibration =
+      ReadCalibration(JoinPaths(dir, "calibration.yaml"));
+  const Camera& camera = calibration.camera;
+  for (const FramePose& pose : ReadPoses(JoinPaths(dir, "poses_gt.txt"))) {
+    const LidarScan scan =
+        ReadLidarScan(JoinPaths(dir, "lidar/" + pose.frame + ".ply"));
+    const DepthMap depth = DepthMap::Read(
+        JoinPaths(dir, "ground_truth/depth_maps/" + pose.frame + ".bin"));
+    int num_in_image = 0;
+    int num_consistent = 0;
+    for (const Eigen::Vector3f& point : scan.points) {
+      const Eigen::Vector3d in_cam =
+          calibration.cam_from_lidar * point.cast<double>();
+      if (in_cam.z() < 1.0) continue;
+      // MVS convention of the depth maps: pixel (col, row) is the image
+      // point (col, row), without the +0.5 of the SfM convention.
+      const Eigen::Vector2d pixel =
+          camera.ImgFromCam(in_cam) - Eigen::Vector2d(0.5, 0.5);
+      const int col = static_cast<int>(std::lround(pixel.x()));
+      const int row = static_cast<int>(std::lround(pixel.y()));
+      if (col < 1 || row < 1 || col + 1 >= static_cast<int>(camera.width) ||
+          row + 1 >= static_cast<int>(camera.height)) {
+        continue;
+      }
+      ++num_in_image;
+      if (std::abs(depth.Get(row, col) - in_cam.z()) < 0.05 * in_cam.z()) {
+        ++num_consistent;
+      }
+    }
+    EXPECT_GT(num_in_image, 100) << pose.frame;
+    EXPECT_GT(num_consistent, 0.8 * num_in_image) << pose.frame;
+  }
+}
+
+TEST(Synthesize, DeterministicPerSeedAndRefusesToOverwrite) {
+  const std::string root = testing::CreateTestDir();
+  SynthesisOptions options = TinyOptions();
+  options.preset = "street";
+  options.write_depth_maps = false;
+  options.survey_num_stations = 0;
+  SynthesizeDataset(options, JoinPaths(root, "a"));
+  SynthesizeDataset(options, JoinPaths(root, "b"));
+  options.seed = 1;
+  SynthesizeDataset(options, JoinPaths(root, "c"));
+  for (const std::string file :
+       {"images/000001.png", "lidar/000002.ply", "poses_prior.txt",
+        "poses_gt.txt"}) {
+    const std::string a = ReadTextFile(JoinPaths(root, "a/" + file));
+    EXPECT_EQ(a, ReadTextFile(JoinPaths(root, "b/" + file))) << file;
+    EXPECT_NE(a, ReadTextFile(JoinPaths(root, "c/" + file))) << file;
+  }
+  EXPECT_FALSE(ExistsFile(JoinPaths(root, "a/reference.ply")));
+  EXPECT_FALSE(ExistsDir(JoinPaths(root, "a/ground_truth/depth_maps")));
+
+  // A non-empty folder is kept unless overwrite is set.
+  EXPECT_THROW(SynthesizeDataset(options, JoinPaths(root, "a")), Error);
+  EXPECT_EQ(ReadTextFile(JoinPaths(root, "a/poses_prior.txt")),
+            ReadTextFile(JoinPaths(root, "b/poses_prior.txt")));
+  options.overwrite = true;
+  SynthesizeDataset(options, JoinPaths(root, "a"));
+  EXPECT_EQ(ReadTextFile(JoinPaths(root, "a/poses_prior.txt")),
+            ReadTextFile(JoinPaths(root, "c/poses_prior.txt")));
+}
+
+TEST(Synthesize, RejectsBadOptions) {
+  SynthesisOptions options = TinyOptions();
+  options.preset = "moon";
+  EXPECT_FALSE(options.Check());
+  EXPECT_THROW(SynthesizeDataset(options, testing::CreateTestDir() + "/x"),
+               Error);
+  options = TinyOptions();
+  options.supersampling = 0;
+  EXPECT_FALSE(options.Check());
+  options = TinyOptions();
+  options.lidar_min_range_m = 200.0;
+  EXPECT_FALSE(options.Check());
+  EXPECT_TRUE(TinyOptions().Check());
+}
+
+}  // namespace
+}  // namespace colmap_lidar
