@@ -58,27 +58,6 @@ const std::vector<double>& RequireCalib(
   return it->second;
 }
 
-// Files of a folder with one of the extensions, by stem.
-std::map<std::string, std::string> FilesByStem(
-    const std::string& dir, const std::vector<std::string>& extensions) {
-  std::map<std::string, std::string> files;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (!entry.is_regular_file()) {
-      continue;
-    }
-    const std::string extension =
-        StringToLower(entry.path().extension().string());
-    if (std::find(extensions.begin(), extensions.end(), extension) ==
-        extensions.end()) {
-      continue;
-    }
-    const std::string stem = entry.path().stem().string();
-    THROW_CHECK(files.emplace(stem, entry.path().string()).second,
-                dir << ": two files for frame '" << stem << "'");
-  }
-  return files;
-}
-
 }  // namespace
 
 std::string FindKittiCalibrationFolder(const std::string& path) {
@@ -186,8 +165,8 @@ Recording LoadKittiRawRecording(const std::string& path, int camera_index) {
   const std::string scan_dir = JoinPaths(data_dir, "velodyne_points/data");
   CheckDirExists(scan_dir, "KITTI velodyne scans");
 
-  const auto images = FilesByStem(image_dir, {".png", ".jpg", ".jpeg"});
-  const auto scans = FilesByStem(scan_dir, {".bin"});
+  const auto images = ListFramesInDir(image_dir, {".png", ".jpg", ".jpeg"}, "image");
+  const auto scans = ListFramesInDir(scan_dir, {".bin"}, "LIDAR scan");
   for (const auto& [stem, image_path] : images) {
     THROW_CHECK(scans.count(stem) > 0,
                 image_path << ": no LIDAR scan " << stem << ".bin in "

@@ -17,30 +17,6 @@ namespace {
 const std::vector<std::string> kImageExtensions = {".png", ".jpg", ".jpeg"};
 const std::vector<std::string> kScanExtensions = {".ply", ".pcd", ".bin"};
 
-std::map<std::string, std::string> ListFramesInDir(
-    const std::string& dir, const std::vector<std::string>& extensions,
-    const std::string& what) {
-  CheckDirExists(dir, what);
-  std::map<std::string, std::string> files;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (!entry.is_regular_file()) {
-      continue;
-    }
-    const std::string extension =
-        StringToLower(entry.path().extension().string());
-    if (std::find(extensions.begin(), extensions.end(), extension) ==
-        extensions.end()) {
-      continue;
-    }
-    const std::string stem = entry.path().stem().string();
-    const auto [it, inserted] = files.emplace(stem, entry.path().string());
-    THROW_CHECK(inserted, dir << ": two " << what << " files for frame '"
-                              << stem << "': " << it->second << " and "
-                              << entry.path().string());
-  }
-  return files;
-}
-
 // The frame a pose line refers to: the frame of that name, else (for
 // timestamp-keyed trajectories) the frame whose name is the same number.
 const RecordingFrame* FindFrameForPose(
@@ -131,6 +107,30 @@ Recording LoadRigRecording(const std::string& path) {
 }
 
 }  // namespace
+
+std::map<std::string, std::string> ListFramesInDir(
+    const std::string& dir, const std::vector<std::string>& extensions,
+    const std::string& what) {
+  CheckDirExists(dir, what);
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (!entry.is_regular_file()) {
+      continue;
+    }
+    const std::string extension =
+        StringToLower(entry.path().extension().string());
+    if (std::find(extensions.begin(), extensions.end(), extension) ==
+        extensions.end()) {
+      continue;
+    }
+    const std::string stem = entry.path().stem().string();
+    const auto [it, inserted] = files.emplace(stem, entry.path().string());
+    THROW_CHECK(inserted, dir << ": two " << what << " files for frame '"
+                              << stem << "': " << it->second << " and "
+                              << entry.path().string());
+  }
+  return files;
+}
 
 std::string DetectRecordingFormat(const std::string& path) {
   CheckDirExists(path, "Dataset");

@@ -42,6 +42,13 @@ struct Recording {
 Recording LoadRecording(const std::string& path, const std::string& format,
                         int kitti_camera = 2);
 
+// The files of `dir` whose lower-cased extension is one of `extensions`
+// (with the dot), keyed by file stem. Throws naming the folder when it does
+// not exist or when two files share a stem ("what" names their kind).
+std::map<std::string, std::string> ListFramesInDir(
+    const std::string& dir, const std::vector<std::string>& extensions,
+    const std::string& what);
+
 // Detects the format of a folder: "rig" when calibration.yaml exists,
 // "kitti_raw" when a calib_cam_to_cam.txt exists in it or in one of its
 // sub-folders; throws otherwise.

@@ -8,7 +8,7 @@
 
 #include "colmap_ext/util/logging.h"
 #include "src/lidar/scan_io.h"
-#include "src/matching/parallel_for.h"
+#include "colmap_ext/util/parallel.h"
 
 namespace colmap_lidar {
 
@@ -153,7 +153,7 @@ std::vector<MatchingView> LoadMatchingViews(
     }
   }
   std::vector<MatchingView> views(jobs.size());
-  MatchingParallelFor(0, static_cast<int>(jobs.size()), options.num_threads,
+  ParallelFor(0, static_cast<int>(jobs.size()), options.num_threads,
                       [&](int i) {
     const Job& job = jobs[i];
     const auto camera_it = model.cameras.find(job.image->camera_id);

@@ -7,7 +7,7 @@
 
 #include "colmap_ext/util/logging.h"
 #include "src/matching/candidate_views.h"
-#include "src/matching/parallel_for.h"
+#include "colmap_ext/util/parallel.h"
 #include "src/matching/segment_similarity.h"
 
 namespace colmap_lidar {
@@ -63,7 +63,7 @@ std::vector<PairwiseLineMatch> MatchLinesPairwise(
   const int num_views = static_cast<int>(views.size());
   std::vector<std::vector<DirectedMatch>> directed(num_views);
   std::vector<size_t> num_candidates(num_views, 0);
-  MatchingParallelFor(0, num_views, options.num_threads, [&](int i) {
+  ParallelFor(0, num_views, options.num_threads, [&](int i) {
     directed[i] = MatchView(views, i, options, &num_candidates[i]);
   });
 

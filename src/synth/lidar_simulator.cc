@@ -8,7 +8,7 @@
 
 #include <glog/logging.h>
 
-#include "src/synth/parallel.h"
+#include "colmap_ext/util/parallel.h"
 #include "src/synth/random.h"
 #include "src/synth/textures.h"
 

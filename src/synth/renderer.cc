@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "colmap_ext/util/logging.h"
-#include "src/synth/parallel.h"
+#include "colmap_ext/util/parallel.h"
 #include "src/synth/random.h"
 #include "src/synth/textures.h"
 

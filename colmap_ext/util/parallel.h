@@ -1,7 +1,8 @@
 // A minimal parallel-for over an index range with std::thread: indices are
-// handed out one at a time from an atomic counter, which balances rows of
-// very different cost (sky vs. textured walls). The first exception thrown
-// by `function` is rethrown on the calling thread after all workers stop.
+// handed out one at a time from an atomic counter, which balances items of
+// very different cost (image rows with sky vs. textured walls, views with
+// few or many segments). The first exception thrown by `function` is
+// rethrown on the calling thread after all workers stop.
 #pragma once
 
 #include <algorithm>
@@ -18,7 +19,7 @@ namespace colmap_lidar {
 inline void ParallelFor(int begin, int end, int num_threads,
                         const std::function<void(int)>& function) {
   if (num_threads <= 0) {
-    num_threads = std::max(1u, std::thread::hardware_concurrency());
+    num_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   }
   num_threads = std::max(1, std::min(num_threads, end - begin));
   if (num_threads <= 1) {
