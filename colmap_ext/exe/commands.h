@@ -63,4 +63,8 @@ int RunLidarDelaunayMesher(int argc, char** argv);
 // odometry_commands.cc
 int RunLidarOdometryCommand(int argc, char** argv);
 
+// sfm_commands.cc
+int RunLineBundleAdjuster(int argc, char** argv);
+int RunLidarMapperCommand(int argc, char** argv);
+
 }  // namespace colmap_lidar

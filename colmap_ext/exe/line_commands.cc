@@ -115,6 +115,11 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
   options->AddOption(s + "max_refine_steps",
                      &o->association.max_refine_steps,
                      "Ring steps searched by that refinement, >= 1.");
+  options->AddOption(s + "max_refine_move_steps",
+                     &o->association.max_refine_move_steps,
+                     "Drop edge points that refinement moves by more than "
+                     "this many ring steps (another crease nearby); 0: keep "
+                     "all.");
   options->AddOption(s + "refine_max_range_jump",
                      &o->association.refine_max_range_jump,
                      "Range jump between ring neighbours not interpolated "
@@ -127,6 +132,10 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
                      &o->association.min_inlier_coverage,
                      "Fraction of the 2D segment the inliers must span, "
                      "[0, 1].");
+  options->AddOption(s + "max_extrapolation",
+                     &o->association.max_extrapolation,
+                     "Clip the 2D segment to its LIDAR support extended by "
+                     "this fraction of it on each side; < 0: no clipping.");
   options->AddOption(s + "max_reprojection_angle_deg",
                      &o->association.max_reprojection_angle_deg,
                      "Reprojected 3D line vs 2D segment angle, degrees.");
@@ -158,6 +167,24 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
   options->AddOption(s + "texture_min_normal_change_deg",
                      &o->association.texture.min_normal_change_deg,
                      "Texture test: normal change of an edge, degrees.");
+  options->AddOption(s + "texture_keep_occlusions",
+                     &o->association.texture.keep_occlusions,
+                     "Keep occluding contours of planar faces (a crease "
+                     "whose other face is hidden), 0/1.");
+  options->AddOption(s + "texture_max_face_residual",
+                     &o->association.texture.max_face_residual,
+                     "Occluding contour: median distance of the face's "
+                     "points to a plane through the line at most this, "
+                     "metres (else a silhouette, discarded).");
+  options->AddOption(s + "texture_min_face_extent",
+                     &o->association.texture.min_face_extent,
+                     "Occluding contour: the face reaches at least this far "
+                     "from the line, metres (else a thin object's "
+                     "silhouette, discarded).");
+  options->AddOption(s + "texture_keep_unknown",
+                     &o->association.texture.keep_unknown,
+                     "Keep lines with too few LIDAR points around them to "
+                     "classify, 0/1.");
   // Fusion.
   options->AddOption(s + "fusion_max_angle_deg", &o->fusion.max_angle_deg,
                      "Fusion: maximum angle between 3D segments, degrees.");

@@ -59,7 +59,7 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      "Source score: weight of a shared LIDAR voxel vs a "
                      "shared sparse point, >= 0.");
   options->AddOption(s + "far_propagation", &o->far_propagation,
-                     "Also propagate from pixels 5 away, 0/1.");
+                     "Propagation strips of 15 instead of 7 pixels, 0/1.");
   options->AddOption(s + "num_iterations", &o->num_iterations,
                      "Photometric iterations, >= 1.");
   options->AddOption(s + "geom_consistency", &o->geom_consistency,

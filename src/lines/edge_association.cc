@@ -29,6 +29,32 @@ std::vector<Eigen::Vector3d> NeighbourPoints(const ViewLineSegment& lifted,
   return points;
 }
 
+// The ring segment outer -> inner extended beyond `inner` to the plane
+// through the origin with normal `normal`, by at most one segment length
+// (the crossing lies between inner and its other neighbour). False when
+// outer is missing, across a range jump, or the extension is out of reach.
+bool ExtendToPlane(const std::vector<Eigen::Vector3d>& points, int inner,
+                   int outer, const Eigen::Vector3d& normal,
+                   double max_range_jump, Eigen::Vector3d* crossing) {
+  if (outer < 0 || std::abs(points[outer].norm() - points[inner].norm()) >
+                       max_range_jump) {
+    return false;
+  }
+  const double side_inner = normal.dot(points[inner]);
+  const double side_outer = normal.dot(points[outer]);
+  const double difference = side_inner - side_outer;
+  if (std::abs(difference) < 1e-12) {
+    return false;
+  }
+  // points[inner] + s * (points[inner] - points[outer]) is on the plane.
+  const double s = -side_inner / difference;
+  if (!(s >= 0.0 && s <= 1.0)) {
+    return false;
+  }
+  *crossing = points[inner] + s * (points[inner] - points[outer]);
+  return true;
+}
+
 // The crossing of point idx's ring with the plane through the origin with
 // normal `normal`, searched up to max_steps ring steps each way; the
 // point itself when there is none or the crossing is a range jump.
@@ -84,6 +110,29 @@ Eigen::Vector3d RefineAlongRing(int idx, const Eigen::Vector3d& normal,
         }
         return points[near];
       }
+      // The chord a-b cuts the corner between a's face and b's face: it
+      // lies inside a convex crease and in front of a concave one, a bias
+      // of up to half a ring step along the viewing ray. Each face's ring
+      // polyline extended to the plane meets the crease itself; their mean
+      // is unbiased. The chord is the fallback (no outer neighbour, a range
+      // jump, or a face nearly parallel to the plane).
+      const int a_out = (direction == &neighbors.next ? neighbors.prev
+                                                      : neighbors.next)[a];
+      const int b_out = (*direction)[b];
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int num_faces = 0;
+      for (const auto& [inner, outer] : {std::pair<int, int>(a, a_out),
+                                         std::pair<int, int>(b, b_out)}) {
+        Eigen::Vector3d crossing;
+        if (ExtendToPlane(points, inner, outer, normal, max_range_jump,
+                          &crossing)) {
+          sum += crossing;
+          ++num_faces;
+        }
+      }
+      if (num_faces == 2) {
+        return 0.5 * sum;
+      }
       const double t = side_a / (side_a - side_b);
       return points[a] + t * (points[b] - points[a]);
     }
@@ -111,6 +160,10 @@ bool EdgeAssociationOptions::Check() const {
   }
   if (!(min_ray_line_angle_deg >= 0.0 && min_ray_line_angle_deg < 90.0)) {
     LOG(ERROR) << "LineExtraction.min_ray_line_angle_deg must be in [0, 90)";
+    return false;
+  }
+  if (!(max_refine_move_steps >= 0.0)) {
+    LOG(ERROR) << "LineExtraction.max_refine_move_steps must be >= 0";
     return false;
   }
   if (max_refine_steps < 1 || !(refine_max_range_jump > 0.0)) {
@@ -160,10 +213,35 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
       ViewingPlaneNormal(camera, segment.start, segment.end);
   if (options.refine_along_rings && ring_neighbors != nullptr &&
       !ring_neighbors->empty()) {
+    const std::vector<Eigen::Vector3d>& points = projected.points_in_cam;
+    size_t num_kept = 0;
     for (size_t i = 0; i < candidate_idxs.size(); ++i) {
-      candidate_points[i] = RefineAlongRing(
-          candidate_idxs[i], plane_normal, projected, *ring_neighbors,
+      const int idx = candidate_idxs[i];
+      const Eigen::Vector3d refined = RefineAlongRing(
+          idx, plane_normal, projected, *ring_neighbors,
           options.max_refine_steps, options.refine_max_range_jump);
+      // A crease's edge point is within about one ring step of where its
+      // ring crosses the crease; one moved farther was detected at another
+      // (nearby) crease and would carry that crease's depth onto this line.
+      if (options.max_refine_move_steps > 0.0) {
+        const int neighbour = ring_neighbors->next[idx] >= 0
+                                  ? ring_neighbors->next[idx]
+                                  : ring_neighbors->prev[idx];
+        if (neighbour >= 0 &&
+            (refined - points[idx]).norm() >
+                options.max_refine_move_steps *
+                    (points[neighbour] - points[idx]).norm()) {
+          continue;
+        }
+      }
+      candidate_idxs[num_kept] = idx;
+      candidate_points[num_kept] = refined;
+      ++num_kept;
+    }
+    candidate_idxs.resize(num_kept);
+    candidate_points.resize(num_kept);
+    if (static_cast<int>(num_kept) < options.ransac.min_inliers) {
+      return LiftResult::kTooFewPoints;
     }
   }
 
@@ -224,10 +302,22 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
   // 4. Endpoints.
   ViewLineSegment result;
   result.segment2D = segment;
-  if (!BackProjectOntoLine(camera, segment.start, line,
+  if (options.max_extrapolation >= 0.0) {
+    // Clip the 2D segment to its LIDAR support plus the allowed
+    // extrapolation: beyond it the back-projected endpoints rest on an
+    // extrapolated 3D line, where a small tilt is a large error.
+    const double lo = std::clamp(min_along, 0.0, length);
+    const double hi = std::clamp(max_along, 0.0, length);
+    const double margin = options.max_extrapolation * (hi - lo);
+    const double clip_start = std::max(0.0, lo - margin);
+    const double clip_end = std::min(length, hi + margin);
+    result.segment2D.start = segment.start + clip_start * direction;
+    result.segment2D.end = segment.start + clip_end * direction;
+  }
+  if (!BackProjectOntoLine(camera, result.segment2D.start, line,
                            options.min_ray_line_angle_deg,
                            &result.start3D_in_cam) ||
-      !BackProjectOntoLine(camera, segment.end, line,
+      !BackProjectOntoLine(camera, result.segment2D.end, line,
                            options.min_ray_line_angle_deg,
                            &result.end3D_in_cam) ||
       result.start3D_in_cam.norm() > options.max_endpoint_range ||
@@ -252,7 +342,7 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
         result.start3D_in_cam, result.end3D_in_cam,
         NeighbourPoints(result, camera, projected, options.texture.radius),
         options.texture);
-    if (type == LineSurfaceType::kTexture) {
+    if (!IsKeptSurfaceType(type, options.texture)) {
       return LiftResult::kTexture;
     }
   }

@@ -1,15 +1,20 @@
 // Lifting 2D line segments to 3D with LIDAR edge points (section III-B):
 //  1. edge points that the camera sees (ProjectScan's z-buffer) are matched
 //     to a 2D segment when their pixel lies within max_point_distance_px of
-//     the segment and within its extent (plus the same margin);
+//     the segment and within its extent (plus the same margin); with ring
+//     neighbours, each is moved along its ring onto the segment's viewing
+//     plane (the crease point of that ring), and dropped when that is too
+//     far (max_refine_move_steps);
 //  2. RANSAC fits a 3D line to the matched points; only inliers are kept,
 //     and they must cover min_inlier_coverage of the segment; the line is
 //     refitted to the inliers within the segment's viewing plane;
 //  3. the 3D line is reprojected and compared with the 2D segment: angle
 //     and the distances of the segment's endpoints to the reprojected line;
-//  4. the 3D endpoints are the back-projections of the 2D endpoints onto
+//  4. the 2D segment is clipped to its LIDAR support (max_extrapolation)
+//     and the 3D endpoints are the back-projections of its endpoints onto
 //     the 3D line (the closest point of the line to each viewing ray);
-//  5. texture-only lines (texture_rejection.h) are discarded.
+//  5. texture-only lines and silhouettes of curved or thin objects
+//     (texture_rejection.h) are discarded.
 // Everything is in the camera frame of the view.
 #pragma once
 
@@ -37,6 +42,11 @@ struct EdgeAssociationOptions {
   bool refine_along_rings = true;
   // Search at most this many ring steps from the edge point.
   int max_refine_steps = 3;
+  // Edge points that this refinement moves by more than this many ring
+  // steps (distance to a ring neighbour) are dropped: they belong to another
+  // crease near the segment (e.g. a shadow or frame line a few centimetres
+  // from a recess corner). 0: keep all.
+  double max_refine_move_steps = 2.5;
   // Ring neighbours whose ranges differ by more than this are across an
   // occluding contour (not interpolated), metres.
   double refine_max_range_jump = 0.3;
@@ -46,6 +56,13 @@ struct EdgeAssociationOptions {
   bool fit_in_viewing_plane = true;
   // The inliers' projections must span this fraction of the 2D segment.
   double min_inlier_coverage = 0.2;
+  // The 2D segment is clipped to the stretch its inliers span, extended on
+  // each side by this fraction of that stretch (negative: not clipped).
+  // The 3D endpoints are the 2D endpoints back-projected onto the fitted
+  // line; far beyond the LIDAR support (e.g. a wall edge rising above the
+  // LIDAR's field of view) they rest on an extrapolated line, where a small
+  // tilt becomes a large error.
+  double max_extrapolation = 0.25;
   // Reprojection check of the fitted line against the 2D segment.
   double max_reprojection_angle_deg = 3.0;
   double max_reprojection_distance_px = 4.0;
@@ -67,6 +84,8 @@ enum class LiftResult {
   kLowCoverage,
   kReprojection,
   kBackProjection,
+  // Rejected by the surface test (texture_rejection.h): a texture line, a
+  // silhouette, or (unless kept) an occluding contour or unknown surface.
   kTexture,
 };
 

@@ -1,41 +1,44 @@
 #include "src/lines/texture_rejection.h"
 
+#include <algorithm>
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include "colmap_ext/util/logging.h"
 
 namespace colmap_lidar {
 namespace {
 
-// Accumulates points for a PCA plane fit.
-struct PlaneAccumulator {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d sum2 = Eigen::Matrix3d::Zero();
-  int count = 0;
+// One side of the viewing plane: the angles about the line and the
+// distances from it of its points.
+struct Side {
+  std::vector<double> angles;
+  std::vector<double> distances;
 
-  void Add(const Eigen::Vector3d& point) {
-    sum += point;
-    sum2 += point * point.transpose();
-    ++count;
-  }
-
-  // False when the points are (nearly) collinear, i.e. no plane.
-  bool Normal(Eigen::Vector3d* normal) const {
-    const Eigen::Vector3d mean = sum / count;
-    const Eigen::Matrix3d covariance =
-        sum2 / count - mean * mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-    const Eigen::Vector3d eigenvalues = solver.eigenvalues();
-    // The second spread must be at least 1 cm for a plane to be defined.
-    if (eigenvalues(1) < 1e-4) {
-      return false;
-    }
-    *normal = solver.eigenvectors().col(0);
-    return true;
-  }
+  int Size() const { return static_cast<int>(angles.size()); }
 };
+
+double Median(std::vector<double> values) {
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  return values[mid];
+}
+
+// The face: the median angle; *residual = median distance to the face,
+// *extent = farthest point from the line.
+double FaceAngle(const Side& side, double* residual, double* extent) {
+  const double angle = Median(side.angles);
+  std::vector<double> residuals(side.angles.size());
+  *extent = 0.0;
+  for (size_t i = 0; i < side.angles.size(); ++i) {
+    residuals[i] =
+        side.distances[i] * std::abs(std::sin(side.angles[i] - angle));
+    *extent = std::max(*extent, side.distances[i]);
+  }
+  *residual = Median(std::move(residuals));
+  return angle;
+}
 
 }  // namespace
 
@@ -55,54 +58,92 @@ bool TextureRejectionOptions::Check() const {
                   "[0, 90]";
     return false;
   }
+  if (!(max_face_residual > 0.0) || !(min_face_extent >= 0.0)) {
+    LOG(ERROR) << "LineExtraction.texture_max_face_residual must be > 0 and "
+                  "texture_min_face_extent >= 0";
+    return false;
+  }
   return true;
+}
+
+bool IsKeptSurfaceType(const LineSurfaceType type,
+                       const TextureRejectionOptions& options) {
+  switch (type) {
+    case LineSurfaceType::kCrease:
+      return true;
+    case LineSurfaceType::kOcclusion:
+      return options.keep_occlusions;
+    case LineSurfaceType::kUnknown:
+      return options.keep_unknown;
+    case LineSurfaceType::kSilhouette:
+    case LineSurfaceType::kTexture:
+      return false;
+  }
+  return false;
 }
 
 LineSurfaceType ClassifyLineSurface(const Eigen::Vector3d& start,
                                     const Eigen::Vector3d& end,
                                     const std::vector<Eigen::Vector3d>& points,
                                     const TextureRejectionOptions& options) {
-  const Eigen::Vector3d direction = (end - start).normalized();
   const double length = (end - start).norm();
   Eigen::Vector3d plane_normal = start.cross(end);
-  if (plane_normal.norm() < 1e-12) {
+  if (length < 1e-9 || plane_normal.norm() < 1e-12) {
     return LineSurfaceType::kUnknown;
   }
+  const Eigen::Vector3d direction = (end - start) / length;
   plane_normal.normalize();
-  PlaneAccumulator sides[2];
-  const double radius2 = options.radius * options.radius;
-  const double exclusion2 =
-      options.exclusion_distance * options.exclusion_distance;
+  // In the plane perpendicular to the line: `plane_normal` (across the
+  // viewing plane) and `away` (within the viewing plane, pointing away from
+  // the camera). Angle 0 is a face hidden behind the line along the viewing
+  // rays, pi a face coming towards the camera.
+  Eigen::Vector3d away = direction.cross(plane_normal);
+  if (away.dot(start + end) < 0.0) {
+    away = -away;
+  }
+  Side sides[2];
   for (const Eigen::Vector3d& point : points) {
     const Eigen::Vector3d offset = point - start;
     const double t = direction.dot(offset);
     if (t < 0.0 || t > length) {
       continue;
     }
-    const double distance2 = (offset - t * direction).squaredNorm();
-    if (distance2 > radius2 || distance2 < exclusion2) {
+    const Eigen::Vector3d perpendicular = offset - t * direction;
+    const double distance = perpendicular.norm();
+    if (distance > options.radius || distance < options.exclusion_distance) {
       continue;
     }
-    sides[plane_normal.dot(offset) > 0.0 ? 0 : 1].Add(point);
+    const double across = plane_normal.dot(perpendicular);
+    Side& side = sides[across > 0.0 ? 0 : 1];
+    side.angles.push_back(std::atan2(across, away.dot(perpendicular)));
+    side.distances.push_back(distance);
   }
-  Eigen::Vector3d normals[2];
-  bool has_plane[2];
+  const bool has_face[2] = {sides[0].Size() >= options.min_side_points,
+                            sides[1].Size() >= options.min_side_points};
+  double residuals[2] = {0.0, 0.0};
+  double extents[2] = {0.0, 0.0};
+  double angles[2] = {0.0, 0.0};
   for (int side = 0; side < 2; ++side) {
-    has_plane[side] = sides[side].count >= options.min_side_points &&
-                      sides[side].Normal(&normals[side]);
+    if (has_face[side]) {
+      angles[side] = FaceAngle(sides[side], &residuals[side], &extents[side]);
+    }
   }
-  if (has_plane[0] && has_plane[1]) {
-    const double cos_angle = std::min(1.0, std::abs(normals[0].dot(normals[1])));
-    const double angle_deg = std::acos(cos_angle) * 180.0 / M_PI;
-    return angle_deg >= options.min_normal_change_deg
+  if (has_face[0] && has_face[1]) {
+    // angles[0] in (0, pi), angles[1] in (-pi, 0): the faces are coplanar
+    // when they differ by pi.
+    const double between = angles[0] - angles[1];  // (0, 2 pi)
+    const double normal_change_deg =
+        std::abs(M_PI - between) * 180.0 / M_PI;
+    return normal_change_deg >= options.min_normal_change_deg
                ? LineSurfaceType::kCrease
                : LineSurfaceType::kTexture;
   }
-  if (has_plane[0] != has_plane[1]) {
-    const int empty_side = has_plane[0] ? 1 : 0;
-    if (sides[empty_side].count < options.min_side_points) {
-      return LineSurfaceType::kOcclusion;
-    }
+  if (has_face[0] != has_face[1]) {
+    const int face = has_face[0] ? 0 : 1;
+    return residuals[face] <= options.max_face_residual &&
+                   extents[face] >= options.min_face_extent
+               ? LineSurfaceType::kOcclusion
+               : LineSurfaceType::kSilhouette;
   }
   return LineSurfaceType::kUnknown;
 }

@@ -1,12 +1,32 @@
 // Texture-only line rejection (section III-B: "we discard lines
 // corresponding to flat surfaces (i.e. only corresponding to changes in
-// texture)"). The LIDAR points around a lifted 3D segment are split into the
-// two sides of its viewing plane (the plane through the camera centre and
-// the segment); a plane is fitted to each side. The segment is a geometric
-// edge when the two normals differ by at least min_normal_change_deg, or
-// when one side has a surface and the other has (almost) no points within
-// the radius (an occluding contour). It is a texture line when both sides
-// lie on one plane.
+// texture), and instead focus ... on edges (i.e. lines that correspond to
+// changes in the local surface normal)").
+//
+// The LIDAR points around a lifted 3D segment (within `radius` of it, not
+// beyond its ends) are split into the two sides of its viewing plane (the
+// plane through the camera centre and the segment). Each side's face is
+// modelled as a half-plane hinged on the 3D line itself: a point's offset
+// perpendicular to the line has an angle about the line, and the side's face
+// angle is the median of its points' angles. Anchoring the faces on the line
+// tests for a normal change *at* the line: a texture line a few centimetres
+// from a real crease (a plank joint next to a door reveal, a window frame
+// next to the recess corner) has the same face on both sides (the median
+// ignores the minority of points beyond the nearby crease), while two planes
+// fitted freely to each side would see the nearby crease. A side's residual
+// is the median distance of its points to its face.
+//  * Both sides have a face: the normal change is 180 deg minus the angle
+//    between the two faces; a crease when it reaches min_normal_change_deg,
+//    else texture.
+//  * One side has a face and the other (almost) no points within the radius:
+//    an occluding contour. It is kept as an edge (kOcclusion) only when the
+//    face is planar (residual at most max_face_residual) and extends at
+//    least min_face_extent from the line: the boundary of a planar face is a
+//    crease whose second face is hidden (a box or building corner against
+//    the background). Otherwise it is the silhouette of a curved or thin
+//    object (tree trunk, pole, bollard), whose position depends on the
+//    viewpoint and which is no crease (kSilhouette).
+//  * Otherwise (too few points) the LIDAR cannot tell (kUnknown).
 #pragma once
 
 #include <vector>
@@ -16,26 +36,43 @@
 namespace colmap_lidar {
 
 struct TextureRejectionOptions {
-  // Discard texture-only lines.
+  // Discard texture-only lines (and silhouettes, unknown lines, see below).
   bool enabled = true;
   // Points within this distance of the segment are its neighbours, metres.
   double radius = 0.3;
   // Points nearer than this to the line belong to neither side, metres.
   double exclusion_distance = 0.02;
-  // A side needs this many points for a plane fit.
+  // A side needs this many points for a face.
   int min_side_points = 6;
-  // Angle between the side normals of an edge, degrees.
-  double min_normal_change_deg = 15.0;
+  // Normal change between the two faces of an edge, degrees. Man-made
+  // creases are mostly right angles; 30 (rather than 15) also rejects the
+  // facet edges of polygonal approximations of curved surfaces (36 deg for
+  // a 10-sided trunk still passes) and lines whose faces are noisy.
+  double min_normal_change_deg = 30.0;
+  // Keep occluding contours of planar faces (kOcclusion).
+  bool keep_occlusions = true;
+  // Occluding contour: the face's residual at most this (metres; the LIDAR
+  // range noise is ~1.5 cm) ...
+  double max_face_residual = 0.02;
+  // ... and its points reach at least this far from the line, metres.
+  double min_face_extent = 0.2;
+  // Keep lines the LIDAR cannot classify (too few points on both sides).
+  bool keep_unknown = false;
 
   bool Check() const;
 };
 
 enum class LineSurfaceType {
-  kCrease,        // the normal turns across the line
-  kOcclusion,     // a surface on one side only
-  kTexture,       // one plane on both sides
-  kUnknown,       // too few points on both sides to tell
+  kCrease,      // the normal turns across the line
+  kOcclusion,   // a planar face on one side only (crease, other face hidden)
+  kSilhouette,  // a curved or thin surface on one side only
+  kTexture,     // one face on both sides
+  kUnknown,     // too few points on both sides to tell
 };
+
+// Whether lines of this type are kept by the texture test.
+bool IsKeptSurfaceType(LineSurfaceType type,
+                       const TextureRejectionOptions& options);
 
 // start/end and the points are in the camera frame (camera centre at the
 // origin). `points` may contain any points; those farther than the radius

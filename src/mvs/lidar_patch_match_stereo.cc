@@ -123,12 +123,46 @@ class WorkspaceCache {
   std::map<int, std::unique_ptr<PlaneMap>> maps_;
 };
 
+// The cost filter; with a soft LIDAR prior, pixels that agree with it are
+// kept whatever their photometric cost.
+size_t FilterMaps(float max_cost, const std::vector<float>& prior_depth,
+                  const LidarPatchMatchOptions& options, PlaneMap* map) {
+  if (prior_depth.empty() || !(options.lidar_prior_weight > 0)) {
+    return FilterByCost(max_cost, map);
+  }
+  return FilterByCostOrPrior(max_cost, prior_depth,
+                             static_cast<float>(options.lidar_prior_tolerance),
+                             map);
+}
+
+// World points of the sparse features the image observes.
+std::vector<Eigen::Vector3f> FeaturesOf(const Reconstruction& model,
+                                        const Image& image) {
+  std::vector<Eigen::Vector3f> features;
+  for (const Point2D& point2D : image.points2D) {
+    if (point2D.point3D_id == kInvalidPoint3DId) continue;
+    const auto it = model.points3D.find(point2D.point3D_id);
+    if (it != model.points3D.end()) {
+      features.push_back(it->second.xyz.cast<float>());
+    }
+  }
+  return features;
+}
+
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
       .count();
 }
 
 }  // namespace
+
+std::vector<float> DensePriorDepth(const PlaneMap& interpolated) {
+  std::vector<float> prior = interpolated.depth;
+  for (float& depth : prior) {
+    if (!(depth > 0)) depth = 0.0f;
+  }
+  return prior;
+}
 
 ReferenceInit InitializeReference(
     const MvsView& ref, const std::vector<Eigen::Vector3f>& features_in_world,
@@ -159,7 +193,7 @@ ReferenceInit InitializeReference(
     init.state = PlaneMap(ref.width, ref.height);
   } else {
     init.state = InterpolateSamples(ref, samples, options);
-    init.prior_depth = SamplesToPriorDepth(samples, ref.width, ref.height);
+    init.prior_depth = DensePriorDepth(init.state);
   }
   return init;
 }
@@ -233,14 +267,8 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
     const MvsView& ref = cache.View(job.ref_idx);
     std::vector<const MvsView*> srcs;
     for (int s : job.srcs) srcs.push_back(&cache.View(s));
-    std::vector<Eigen::Vector3f> features;
-    for (const Point2D& point2D : image.points2D) {
-      if (point2D.point3D_id == kInvalidPoint3DId) continue;
-      const auto it = model.points3D.find(point2D.point3D_id);
-      if (it != model.points3D.end()) features.push_back(it->second.xyz.cast<float>());
-    }
     ReferenceInit init = InitializeReference(
-        ref, features, have_lidar ? &lidar : nullptr, options);
+        ref, FeaturesOf(model, image), have_lidar ? &lidar : nullptr, options);
     const PatchCostComputer cost(ref, srcs, options);
     PatchMatchProblem problem;
     problem.cost = &cost;
@@ -250,8 +278,8 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
     RunPatchMatch(problem, options, options.num_iterations,
                   static_cast<uint64_t>(options.seed) * 7919 + job.ref_idx,
                   &init.state);
-    const size_t kept =
-        FilterByCost(static_cast<float>(options.filter_max_cost), &init.state);
+    const size_t kept = FilterMaps(static_cast<float>(options.filter_max_cost),
+                                   init.prior_depth, options, &init.state);
     WriteMaps(workspace, image.name, DenseMapType::kPhotometric, init.state);
     ++summary.num_photometric_computed;
     LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
@@ -301,14 +329,22 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
       problem.depth_min = std::max(static_cast<float>(options.min_depth),
                                    Percentile(depths, 0.0) / 1.2f);
       problem.depth_max = Percentile(depths, 1.0) * 1.2f;
+      // The geometric pass keeps the soft LIDAR prior of the photometric one.
+      std::vector<float> prior_depth;
+      if (!options.RandomInit() && options.lidar_prior_weight > 0) {
+        prior_depth = InitializeReference(ref, FeaturesOf(model, image),
+                                          &lidar, options)
+                          .prior_depth;
+        problem.prior_depth = &prior_depth;
+      }
       RunPatchMatch(problem, options, options.num_geom_iterations,
                     static_cast<uint64_t>(options.seed) * 7919 + job.ref_idx +
                         1000000,
                     &state);
-      FilterByCost(static_cast<float>(options.filter_max_cost +
-                                      options.geom_consistency_regularizer *
-                                          options.filter_max_reproj_error),
-                   &state);
+      FilterMaps(static_cast<float>(options.filter_max_cost +
+                                    options.geom_consistency_regularizer *
+                                        options.filter_max_reproj_error),
+                 prior_depth, options, &state);
       const size_t kept = FilterByConsistency(cost, options, &state);
       WriteMaps(workspace, image.name, DenseMapType::kGeometric, state);
       ++summary.num_geometric_computed;

@@ -43,6 +43,13 @@ ReferenceInit InitializeReference(
     const MvsView& ref, const std::vector<Eigen::Vector3f>& features_in_world,
     const FusedLidarCloud* lidar, const LidarPatchMatchOptions& options);
 
+// The soft prior of a LIDAR-initialised view: the interpolated depth at
+// every pixel inside the samples' hull (0 elsewhere), so that textureless
+// surfaces, where NCC does not decide, keep their LIDAR plane. (Masking
+// pixels near interpolated depth edges out of the prior was measured worse
+// on the synthetic scene: 96.1% vs 96.7% within 5 cm.)
+std::vector<float> DensePriorDepth(const PlaneMap& interpolated);
+
 struct LidarPatchMatchSummary {
   int num_references = 0;
   int num_photometric_computed = 0;

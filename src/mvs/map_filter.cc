@@ -1,5 +1,7 @@
 #include "src/mvs/map_filter.h"
 
+#include <cmath>
+
 #include "colmap_ext/util/logging.h"
 #include "src/mvs/parallel_rows.h"
 
@@ -9,6 +11,27 @@ size_t FilterByCost(float max_cost, PlaneMap* map) {
   size_t kept = 0;
   for (size_t i = 0; i < map->depth.size(); ++i) {
     if (!(map->depth[i] > 0) || !(map->cost[i] <= max_cost)) {
+      map->depth[i] = 0.0f;
+      map->normal[i].setZero();
+    } else {
+      ++kept;
+    }
+  }
+  return kept;
+}
+
+size_t FilterByCostOrPrior(float max_cost, const std::vector<float>& prior_depth,
+                           float prior_tolerance, PlaneMap* map) {
+  THROW_CHECK(prior_depth.size() == map->depth.size(),
+              "prior depth of " << prior_depth.size() << " pixels for a map of "
+                                << map->depth.size());
+  size_t kept = 0;
+  for (size_t i = 0; i < map->depth.size(); ++i) {
+    const float depth = map->depth[i];
+    const float prior = prior_depth[i];
+    const bool supported =
+        prior > 0 && std::abs(depth - prior) <= prior_tolerance * prior;
+    if (!(depth > 0) || !(map->cost[i] <= max_cost || supported)) {
       map->depth[i] = 0.0f;
       map->normal[i].setZero();
     } else {

@@ -15,6 +15,14 @@ namespace colmap_lidar {
 // Returns the number of pixels kept. `max_cost` is compared with map->cost.
 size_t FilterByCost(float max_cost, PlaneMap* map);
 
+// As FilterByCost, but a pixel whose depth agrees with its prior depth
+// (> 0) within `prior_tolerance` (relative) is kept whatever its cost: the
+// LIDAR supports it where the photometric cost cannot (textureless
+// surfaces, where NCC is undefined and costs kMaxCost). `prior_depth` is
+// row-major of the map's size.
+size_t FilterByCostOrPrior(float max_cost, const std::vector<float>& prior_depth,
+                           float prior_tolerance, PlaneMap* map);
+
 // Needs cost.HasSourceMaps(). Returns the number of pixels kept.
 size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,

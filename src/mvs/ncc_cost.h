@@ -15,7 +15,7 @@
 //   w_i = exp(-|dp_i|^2 / (2 sigma_s^2) - (I_r(p_i) - I_r(p))^2 / (2 sigma_c^2)):
 //   ncc = cov_w(r, s) / sqrt(var_w(r) var_w(s)), cost = 1 - ncc in [0, 2].
 // A window leaving the source image, a plane seen edge-on or a textureless
-// window (variance < 1e-5) costs kMaxCost.
+// window (standard deviation < 0.005) costs kMaxCost.
 #pragma once
 
 #include <vector>

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "colmap_ext/util/logging.h"
 #include "src/mvs/parallel_rows.h"
@@ -13,6 +14,8 @@ namespace {
 constexpr float kInitialDepthPerturbation = 0.1f;   // Relative.
 constexpr float kInitialNormalPerturbation = 0.4f;  // Radians, roughly.
 constexpr float kMinPerturbation = 0.004f;
+// Propagation strips reach this many pixels (odd).
+constexpr int kStripLength = 7;
 
 Eigen::Vector3f RandomFacingNormal(const Eigen::Vector3f& ray,
                                    PixelRandom* random) {
@@ -36,7 +39,8 @@ class PixelUpdater {
         state_(state),
         prior_weight_(static_cast<float>(options.lidar_prior_weight)),
         prior_tolerance_(static_cast<float>(options.lidar_prior_tolerance)),
-        far_(options.far_propagation) {}
+        strip_length_(options.far_propagation ? 2 * kStripLength + 1
+                                              : kStripLength) {}
 
   float PriorTerm(size_t index, float depth) const {
     if (problem_.prior_depth == nullptr || prior_weight_ <= 0) return 0.0f;
@@ -76,22 +80,35 @@ class PixelUpdater {
         best_normal = normal;
       }
     };
-    // Propagation: the neighbour's plane intersected with this pixel's ray.
-    static constexpr int kOffsets[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1},
-                                           {-5, 0}, {5, 0}, {0, -5}, {0, 5}};
-    const int num_offsets = far_ ? 8 : 4;
-    for (int k = 0; k < num_offsets; ++k) {
-      const int r = row + kOffsets[k][0];
-      const int c = col + kOffsets[k][1];
-      if (r < 0 || c < 0 || r >= state_->height || c >= state_->width) continue;
-      const size_t j = state_->Index(r, c);
-      const float neighbour_depth = state_->depth[j];
-      if (!(neighbour_depth > 0)) continue;
-      const Eigen::Vector3f& normal = state_->normal[j];
+    // Propagation: per direction (up, down, left, right) the neighbour of
+    // lowest cost among those 1, 3, ..., kStripLength pixels away (all of
+    // the other colour), its plane intersected with this pixel's ray. Picking
+    // by the stored cost costs no NCC evaluation and spreads good planes
+    // kStripLength pixels per half-iteration instead of one (Xu and Tao
+    // 2019's adaptive checkerboard sampling, with strips only).
+    static constexpr int kDirections[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    for (int k = 0; k < 4; ++k) {
+      int best_j = -1;
+      float best_neighbour_cost = std::numeric_limits<float>::infinity();
+      for (int distance = 1; distance <= strip_length_; distance += 2) {
+        const int r = row + distance * kDirections[k][0];
+        const int c = col + distance * kDirections[k][1];
+        if (r < 0 || c < 0 || r >= state_->height || c >= state_->width) break;
+        const size_t j = state_->Index(r, c);
+        if (!(state_->depth[j] > 0)) continue;
+        if (best_j < 0 || state_->cost[j] < best_neighbour_cost) {
+          best_j = static_cast<int>(j);
+          best_neighbour_cost = state_->cost[j];
+        }
+      }
+      if (best_j < 0) continue;
+      const int r = best_j / state_->width;
+      const int c = best_j % state_->width;
+      const Eigen::Vector3f& normal = state_->normal[best_j];
       const float denominator = normal.dot(ray);
       if (denominator >= -1e-6f) continue;
       const float depth =
-          normal.dot(neighbour_depth * ref_.Ray(r, c)) / denominator;
+          normal.dot(state_->depth[best_j] * ref_.Ray(r, c)) / denominator;
       consider(depth, normal);
     }
     // Random refinement.
@@ -126,7 +143,7 @@ class PixelUpdater {
   PlaneMap* state_;
   const float prior_weight_;
   const float prior_tolerance_;
-  const bool far_;
+  const int strip_length_;
 };
 
 }  // namespace

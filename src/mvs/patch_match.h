@@ -4,15 +4,16 @@
 // and by random refinement. Pixels of one colour are updated in parallel
 // (row-parallel std::threads) while they read only pixels of the other
 // colour, so the result does not depend on the thread count. Candidates per
-// pixel and iteration: the planes of the 4 direct neighbours (and, with
-// far_propagation, those 5 pixels away) and three refinements (perturbed
+// pixel and iteration: per direction (up, down, left, right) the plane of
+// the lowest-cost neighbour among those 1, 3, 5, 7 pixels away (up to 15
+// with far_propagation), and three refinements (perturbed
 // depth and normal, perturbed normal, a random plane), with perturbation
 // ranges halving every iteration.
 //
 // Costs come from PatchCostComputer (bilateral NCC, optionally the
 // geometric term). The optional LIDAR prior adds
 //   lidar_prior_weight * min(|d - d_prior| / (d_prior * tolerance), 1)
-// at pixels with a prior sample.
+// at pixels with a prior depth (> 0).
 #pragma once
 
 #include <cstdint>

@@ -24,8 +24,9 @@ struct LidarPatchMatchOptions {
   // source-view score, >= 0.
   double lidar_covisibility_weight = 0.1;
 
-  // Propagate also from the pixels 5 away along rows and columns (faster
-  // spreading of good planes, 8 instead of 4 candidates per pixel).
+  // Propagation takes, per direction, the lowest-cost neighbour among those
+  // 1, 3, 5 and 7 pixels away; far_propagation extends these strips to 15
+  // pixels (no extra cost evaluations).
   bool far_propagation = false;
   // Photometric red-black iterations (propagation + random refinement), >= 1.
   int num_iterations = 5;
@@ -50,9 +51,13 @@ struct LidarPatchMatchOptions {
   // per-view costs (occlusion robustness), (0, 1].
   double best_views_fraction = 0.5;
 
-  // Soft LIDAR prior: cost += weight * min(|d - d_lidar| / (d_lidar *
-  // tolerance), 1) where the pixel has a LIDAR/feature sample; 0: off.
-  double lidar_prior_weight = 0.0;
+  // Soft LIDAR prior (init lidar only): cost += weight * min(|d - d_lidar| /
+  // (d_lidar * tolerance), 1) at every pixel of the interpolated
+  // LIDAR/feature initialisation; the cost filter also keeps pixels within
+  // the tolerance of it. 0: off (pure photometric PatchMatch from the LIDAR
+  // initialisation). Default 1: a hypothesis must lower 1 - NCC by more
+  // than 1 to leave the LIDAR plane by more than the tolerance.
+  double lidar_prior_weight = 1.0;
   double lidar_prior_tolerance = 0.02;
 
   // Initialisation: LIDAR samples are dropped unless their depth is at most

@@ -1,0 +1,525 @@
+#include "src/sfm/lidar_mapper.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <unordered_map>
+
+#include "colmap_ext/database/database.h"
+#include "colmap_ext/database/line_segments_table.h"
+#include "colmap_ext/model/model_io.h"
+#include "colmap_ext/runner/colmap_runner.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "src/eval/segment_io.h"
+#include "src/lines/workspace_line_extractor.h"
+#include "src/sfm/association_step.h"
+#include "src/sfm/ba_input.h"
+#include "src/sfm/model_alignment.h"
+
+namespace colmap_lidar {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                       start)
+      .count();
+}
+
+std::string ThreadsArg(int num_threads) {
+  return std::to_string(num_threads <= 0 ? -1 : num_threads);
+}
+
+// Cameras of the database plus one image per database image with a prior
+// pose, at that pose, without points: the starting model of the "priors"
+// initialisation and the fallback pose of images the mapper missed.
+Reconstruction PriorModel(const Database& database) {
+  Reconstruction model;
+  for (const Camera& camera : database.ReadAllCameras()) {
+    model.cameras[camera.camera_id] = camera;
+  }
+  for (const DatabaseImage& db_image : database.ReadAllImages()) {
+    if (!db_image.prior_q || !db_image.prior_t) {
+      continue;
+    }
+    Image image;
+    image.image_id = db_image.image_id;
+    image.name = db_image.name;
+    image.camera_id = db_image.camera_id;
+    const Eigen::Quaterniond rotation = db_image.prior_q->normalized();
+    image.cam_from_world = Rigid3d(rotation, -(rotation * *db_image.prior_t));
+    model.images.push_back(std::move(image));
+  }
+  return model;
+}
+
+// The model with poses only (no points, no observations): what stock
+// point_triangulator gets, so that it fills points2D from the database.
+Reconstruction PosesOnly(const Reconstruction& model) {
+  Reconstruction poses;
+  poses.cameras = model.cameras;
+  for (const Image& image : model.images) {
+    Image copy;
+    copy.image_id = image.image_id;
+    copy.name = image.name;
+    copy.camera_id = image.camera_id;
+    copy.cam_from_world = image.cam_from_world;
+    poses.images.push_back(std::move(copy));
+  }
+  return poses;
+}
+
+// The model with most images among the numbered sub-folders colmap mapper
+// writes; empty model when there is none.
+Reconstruction LargestMapperModel(const std::string& mapper_path) {
+  Reconstruction best;
+  for (const auto& entry : std::filesystem::directory_iterator(mapper_path)) {
+    if (!entry.is_directory() || !ExistsModel(entry.path().string())) {
+      continue;
+    }
+    Reconstruction model = ReadReconstruction(entry.path().string());
+    if (model.images.size() > best.images.size()) {
+      best = std::move(model);
+    }
+  }
+  return best;
+}
+
+double RotationAngleDeg(const Eigen::Quaterniond& a,
+                        const Eigen::Quaterniond& b) {
+  return a.normalized().angularDistance(b.normalized()) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+bool LidarMapperOptions::Check() const {
+#define LIDAR_MAPPER_CHECK(cond, name)                              \
+  if (!(cond)) {                                                    \
+    LOG(ERROR) << "LidarMapper." #name " is invalid: " #cond;       \
+    return false;                                                   \
+  }
+  LIDAR_MAPPER_CHECK(sift_max_image_size > 0, sift_max_image_size);
+  LIDAR_MAPPER_CHECK(sift_max_num_features > 0, sift_max_num_features);
+  LIDAR_MAPPER_CHECK(exhaustive_max_num_images >= 0,
+                     exhaustive_max_num_images);
+  LIDAR_MAPPER_CHECK(sequential_overlap > 0, sequential_overlap);
+  LIDAR_MAPPER_CHECK(init_method == "mapper" || init_method == "priors",
+                     init_method);
+  LIDAR_MAPPER_CHECK(mapper_abs_pose_min_num_inliers > 0,
+                     mapper_abs_pose_min_num_inliers);
+  LIDAR_MAPPER_CHECK(mapper_abs_pose_min_inlier_ratio >= 0.0 &&
+                         mapper_abs_pose_min_inlier_ratio <= 1.0,
+                     mapper_abs_pose_min_inlier_ratio);
+  LIDAR_MAPPER_CHECK(max_num_iterations >= 1, max_num_iterations);
+  LIDAR_MAPPER_CHECK(max_position_change_m >= 0.0, max_position_change_m);
+  LIDAR_MAPPER_CHECK(max_rotation_change_deg >= 0.0, max_rotation_change_deg);
+  LIDAR_MAPPER_CHECK(initial_pose_sigma_t_m >= 0.0, initial_pose_sigma_t_m);
+  LIDAR_MAPPER_CHECK(initial_pose_sigma_r_deg >= 0.0,
+                     initial_pose_sigma_r_deg);
+  LIDAR_MAPPER_CHECK(refined_pose_sigma_t_m >= 0.0, refined_pose_sigma_t_m);
+  LIDAR_MAPPER_CHECK(refined_pose_sigma_r_deg >= 0.0,
+                     refined_pose_sigma_r_deg);
+  LIDAR_MAPPER_CHECK(max_point_error_px > 0.0, max_point_error_px);
+  LIDAR_MAPPER_CHECK(max_line_error_px > 0.0, max_line_error_px);
+  LIDAR_MAPPER_CHECK(triangulation_max_error_px > 0.0,
+                     triangulation_max_error_px);
+  LIDAR_MAPPER_CHECK(prior_position_sigma_m > 0.0, prior_position_sigma_m);
+  LIDAR_MAPPER_CHECK(prior_rotation_sigma_deg > 0.0, prior_rotation_sigma_deg);
+#undef LIDAR_MAPPER_CHECK
+  return extraction.Check() && matching.Check() && adjustment.Check();
+}
+
+std::string LidarMapperSummary::Format() const {
+  std::ostringstream out;
+  out << "lidar_mapper: " << num_images << " images (" << num_initial_images
+      << " initialised";
+  if (prior_alignment_rms_m >= 0.0) {
+    out << ", sim3 to priors rms " << prior_alignment_rms_m << " m";
+  }
+  out << "), " << iterations.size() << " iterations, "
+      << (converged ? "converged" : "not converged") << "\n";
+  for (size_t i = 0; i < iterations.size(); ++i) {
+    const LidarMapperIteration& it = iterations[i];
+    out << "  iteration " << i + 1 << ": " << it.num_points << " points, "
+        << it.num_line_tracks << " line tracks, pose change max "
+        << it.max_position_change_m << " m / " << it.max_rotation_change_deg
+        << " deg, mean " << it.mean_position_change_m << " m; errors point "
+        << it.adjustment.mean_point_error_px << " px, line "
+        << it.adjustment.mean_line_error_px << " px, lidar rms "
+        << it.adjustment.rms_lidar_distance_m << " m; filtered "
+        << it.num_filtered_points << " points, " << it.num_filtered_lines
+        << " lines; " << it.seconds << " s\n";
+  }
+  out << "  output " << output_path << ": " << num_points << " points, "
+      << num_lines << " lines3D; segments " << lines_ply_path << "\n";
+  out << "  time: features+matching " << features_seconds << " s, lines "
+      << lines_seconds << " s, initialisation " << init_seconds
+      << " s, iterations " << iterations_seconds << " s (adjustment "
+      << adjustment_seconds << " s), total " << total_seconds << " s";
+  return out.str();
+}
+
+int FilterPoints(double max_error_px, Reconstruction* model) {
+  std::unordered_map<image_t, Image*> images;
+  for (Image& image : model->images) {
+    images[image.image_id] = &image;
+  }
+  int num_removed = 0;
+  for (auto it = model->points3D.begin(); it != model->points3D.end();) {
+    const Point3D& point3D = it->second;
+    if (point3D.track.size() >= 2 && point3D.error >= 0.0 &&
+        point3D.error <= max_error_px) {
+      ++it;
+      continue;
+    }
+    for (const TrackElement& element : point3D.track) {
+      const auto image = images.find(element.image_id);
+      if (image != images.end() &&
+          element.point2D_idx < image->second->points2D.size()) {
+        image->second->points2D[element.point2D_idx].point3D_id =
+            kInvalidPoint3DId;
+      }
+    }
+    it = model->points3D.erase(it);
+    ++num_removed;
+  }
+  return num_removed;
+}
+
+void WriteLines3DPly(const std::string& path, const Reconstruction& model) {
+  std::vector<Segment3D> segments;
+  segments.reserve(model.lines3D.size());
+  for (const auto& [line3D_id, line3D] : model.lines3D) {
+    Segment3D segment;
+    segment.start = line3D.start_in_world;
+    segment.end = line3D.end_in_world;
+    segments.push_back(segment);
+  }
+  WriteSegmentsPly(path, segments);
+}
+
+LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
+                                  const LidarMapperOptions& options) {
+  THROW_CHECK(options.Check(), "lidar_mapper: invalid options (see the log)");
+  const auto start_time = std::chrono::steady_clock::now();
+  LidarMapperPaths paths = input_paths;
+  THROW_CHECK(!paths.workspace_path.empty(),
+              "lidar_mapper: the workspace path is empty");
+  if (paths.database_path.empty()) {
+    paths.database_path = JoinPaths(paths.workspace_path, "database.db");
+  }
+  if (paths.image_path.empty()) {
+    paths.image_path = JoinPaths(paths.workspace_path, "images");
+  }
+  if (paths.output_path.empty()) {
+    paths.output_path = JoinPaths(paths.workspace_path, "sparse/refined");
+  }
+  if (paths.lines_ply_path.empty()) {
+    paths.lines_ply_path = JoinPaths(paths.output_path, "lines3D.ply");
+  }
+  THROW_CHECK(ExistsFile(paths.database_path),
+              "lidar_mapper: no database " << paths.database_path
+                                           << " (run lidar_importer first)");
+  THROW_CHECK(ExistsDir(paths.image_path),
+              "lidar_mapper: no image folder " << paths.image_path);
+  const std::string work_path =
+      JoinPaths(paths.workspace_path, "sparse/lidar_mapper");
+  CreateDirIfNotExists(JoinPaths(paths.workspace_path, "sparse"));
+  CreateDirIfNotExists(work_path);
+
+  ColmapRunnerOptions runner_options;
+  runner_options.colmap_binary = options.colmap_binary;
+  runner_options.log_path =
+      JoinPaths(paths.workspace_path, "lidar_mapper_colmap.log");
+  const ColmapRunner colmap(runner_options);
+  const std::string threads = ThreadsArg(options.num_threads);
+
+  LidarMapperSummary summary;
+  summary.output_path = paths.output_path;
+  summary.lines_ply_path = paths.lines_ply_path;
+
+  // ---- 1-2. Features and matches (stock colmap; our handle is closed
+  // while colmap writes the database).
+  int num_images = 0;
+  bool need_features = false;
+  {
+    const Database database(paths.database_path);
+    for (const DatabaseImage& image : database.ReadAllImages()) {
+      ++num_images;
+      need_features = need_features || !database.ExistsKeypoints(image.image_id);
+    }
+  }
+  THROW_CHECK(num_images > 0,
+              "lidar_mapper: the database " << paths.database_path
+                                            << " holds no images");
+  auto stage_start = std::chrono::steady_clock::now();
+  if (need_features) {
+    LOG(INFO) << "lidar_mapper: feature_extractor (CPU SIFT) on " << num_images
+              << " images";
+    colmap.Run("feature_extractor",
+               {{"database_path", paths.database_path},
+                {"image_path", paths.image_path},
+                {"SiftExtraction.use_gpu", "0"},
+                {"SiftExtraction.num_threads", threads},
+                {"SiftExtraction.max_image_size",
+                 std::to_string(options.sift_max_image_size)},
+                {"SiftExtraction.max_num_features",
+                 std::to_string(options.sift_max_num_features)}});
+  } else {
+    LOG(INFO) << "lidar_mapper: every image has keypoints, feature "
+                 "extraction skipped";
+  }
+  if (num_images <= options.exhaustive_max_num_images) {
+    LOG(INFO) << "lidar_mapper: exhaustive_matcher";
+    colmap.Run("exhaustive_matcher", {{"database_path", paths.database_path},
+                                      {"SiftMatching.use_gpu", "0"},
+                                      {"SiftMatching.num_threads", threads}});
+  } else {
+    LOG(INFO) << "lidar_mapper: sequential_matcher, overlap "
+              << options.sequential_overlap;
+    colmap.Run("sequential_matcher",
+               {{"database_path", paths.database_path},
+                {"SiftMatching.use_gpu", "0"},
+                {"SiftMatching.num_threads", threads},
+                {"SequentialMatching.overlap",
+                 std::to_string(options.sequential_overlap)}});
+  }
+  summary.features_seconds = SecondsSince(stage_start);
+
+  // ---- 3. Lines.
+  stage_start = std::chrono::steady_clock::now();
+  {
+    size_t num_segments = 0;
+    {
+      const Database database(paths.database_path);
+      num_segments = NumLineSegments(database);
+    }
+    if (num_segments == 0) {
+      LineExtractionOptions extraction = options.extraction;
+      extraction.num_threads = options.num_threads;
+      const WorkspaceLineExtractionSummary lines = ExtractWorkspaceLines(
+          paths.database_path, paths.image_path, {}, extraction);
+      LOG(INFO) << "lidar_mapper: line_extractor\n" << lines.Format();
+    } else {
+      LOG(INFO) << "lidar_mapper: " << num_segments
+                << " line segments in the database, extraction skipped";
+    }
+  }
+  summary.lines_seconds = SecondsSince(stage_start);
+
+  Database database(paths.database_path);
+  const Reconstruction prior_model = PriorModel(database);
+  THROW_CHECK(prior_model.images.size() >= 3,
+              "lidar_mapper: " << prior_model.images.size()
+                               << " images of " << paths.database_path
+                               << " have prior poses, need at least 3 (run "
+                                  "lidar_importer or lidar_odometry)");
+  std::unordered_map<image_t, Rigid3d> priors;
+  for (const Image& image : prior_model.images) {
+    priors[image.image_id] = image.cam_from_world;
+  }
+  summary.num_images = static_cast<int>(prior_model.images.size());
+
+  // ---- 4. Initial poses.
+  stage_start = std::chrono::steady_clock::now();
+  Reconstruction model = prior_model;
+  bool points_only_first = options.init_method == "priors";
+  if (options.init_method == "mapper") {
+    const std::string mapper_path = JoinPaths(work_path, "mapper");
+    std::filesystem::remove_all(mapper_path);
+    CreateDirIfNotExists(mapper_path);
+    LOG(INFO) << "lidar_mapper: stock mapper for the initial poses";
+    Reconstruction mapped;
+    try {
+      colmap.Run("mapper",
+                 {{"database_path", paths.database_path},
+                  {"image_path", paths.image_path},
+                  {"output_path", mapper_path},
+                  {"Mapper.ba_refine_focal_length", "0"},
+                  {"Mapper.ba_refine_principal_point", "0"},
+                  {"Mapper.ba_refine_extra_params", "0"},
+                  {"Mapper.abs_pose_min_num_inliers",
+                   std::to_string(options.mapper_abs_pose_min_num_inliers)},
+                  {"Mapper.abs_pose_min_inlier_ratio",
+                   std::to_string(options.mapper_abs_pose_min_inlier_ratio)},
+                  {"Mapper.num_threads", threads}});
+      mapped = LargestMapperModel(mapper_path);
+    } catch (const Error& error) {
+      LOG(WARNING) << "lidar_mapper: stock mapper failed (" << error.what()
+                   << ")";
+    }
+    if (mapped.images.size() < 3) {
+      // No usable relative poses: continue as init_method "priors".
+      LOG(WARNING) << "lidar_mapper: stock mapper registered "
+                   << mapped.images.size()
+                   << " images; starting from the prior poses instead";
+      points_only_first = true;
+      summary.num_initial_images = static_cast<int>(model.images.size());
+    } else {
+      const PriorAlignmentSummary alignment =
+          AlignReconstructionToPriors(priors, &mapped);
+      summary.prior_alignment_rms_m = alignment.rms_residual_m;
+      summary.num_initial_images = 0;
+      for (Image& image : model.images) {
+        const Image* mapped_image = mapped.FindImage(image.image_id);
+        if (mapped_image != nullptr) {
+          image.cam_from_world = mapped_image->cam_from_world;
+          ++summary.num_initial_images;
+        }
+      }
+      LOG(INFO) << "lidar_mapper: mapper registered "
+                << summary.num_initial_images << " of "
+                << model.images.size()
+                << " images, sim3 to the priors: scale "
+                << alignment.prior_from_model.scale << ", rms "
+                << alignment.rms_residual_m
+                << " m; the others start at their prior pose";
+    }
+  } else {
+    summary.num_initial_images = static_cast<int>(model.images.size());
+  }
+  summary.init_seconds = SecondsSince(stage_start);
+
+  // ---- 5. Iterations.
+  stage_start = std::chrono::steady_clock::now();
+  std::vector<LineTrack> tracks;
+  for (int iteration = 0; iteration < options.max_num_iterations;
+       ++iteration) {
+    const auto iteration_start = std::chrono::steady_clock::now();
+    LidarMapperIteration record;
+
+    // Points: stock point_triangulator, poses and intrinsics fixed.
+    const std::string poses_path = JoinPaths(work_path, "poses");
+    const std::string triangulated_path = JoinPaths(work_path, "triangulated");
+    WriteReconstruction(poses_path, PosesOnly(model), ModelFormat::kBinary);
+    CreateDirIfNotExists(triangulated_path);
+    colmap.Run("point_triangulator",
+               {{"database_path", paths.database_path},
+                {"image_path", paths.image_path},
+                {"input_path", poses_path},
+                {"output_path", triangulated_path},
+                {"clear_points", "1"},
+                {"Mapper.ba_refine_focal_length", "0"},
+                {"Mapper.ba_refine_principal_point", "0"},
+                {"Mapper.ba_refine_extra_params", "0"},
+                {"Mapper.filter_max_reproj_error",
+                 std::to_string(options.triangulation_max_error_px)},
+                {"Mapper.num_threads", threads}});
+    Reconstruction triangulated = ReadReconstruction(triangulated_path);
+    // Keep our image order and poses; take cameras (unchanged) and the
+    // observations from the triangulator.
+    model.points3D = std::move(triangulated.points3D);
+    model.point3D_file_order.clear();
+    for (Image& image : model.images) {
+      const Image* observed = triangulated.FindImage(image.image_id);
+      image.points2D =
+          observed != nullptr ? observed->points2D : std::vector<Point2D>();
+    }
+    model.lines3D.clear();
+    // Observations of points the triangulator dropped for an image we lack
+    // cannot occur: every image of ours was in its input.
+    record.num_points = static_cast<int>(model.points3D.size());
+
+    // Lines: association with the current poses.
+    const bool use_lines = !(points_only_first && iteration == 0);
+    tracks.clear();
+    if (use_lines) {
+      LineMatchingOptions matching = options.matching;
+      const bool first_line_iteration =
+          iteration == (points_only_first ? 1 : 0);
+      matching.pose_sigma_t_m = first_line_iteration
+                                    ? options.initial_pose_sigma_t_m
+                                    : options.refined_pose_sigma_t_m;
+      matching.pose_sigma_r_deg = first_line_iteration
+                                      ? options.initial_pose_sigma_r_deg
+                                      : options.refined_pose_sigma_r_deg;
+      matching.num_threads = options.num_threads;
+      const AssociationStepSummary association =
+          AssociateWorkspaceLines(&database, model, matching);
+      LOG(INFO) << "lidar_mapper: association with pose sigma "
+                << matching.pose_sigma_t_m << " m / "
+                << matching.pose_sigma_r_deg << " deg: "
+                << association.num_tracks << " tracks, mean length "
+                << association.mean_track_length;
+      tracks = LoadLineTracks(database, model);
+    }
+    record.num_line_tracks = static_cast<int>(tracks.size());
+
+    // Adjustment.
+    LineBundleAdjustmentOptions adjustment = options.adjustment;
+    adjustment.gauge = LineBAGauge::kPosePriors;
+    adjustment.prior_position_sigma_m = options.prior_position_sigma_m;
+    adjustment.prior_rotation_sigma_deg = options.prior_rotation_sigma_deg;
+    adjustment.num_threads = options.num_threads;
+    if (!use_lines) {
+      adjustment.lambda_L = 0.0;
+      adjustment.lambda_lidar = 0.0;
+    }
+    std::unordered_map<image_t, Rigid3d> poses_before;
+    for (const Image& image : model.images) {
+      poses_before[image.image_id] = image.cam_from_world;
+    }
+    LineBundleAdjuster adjuster(adjustment);
+    adjuster.SetPosePriors(priors);
+    record.adjustment = adjuster.Solve(&model, &tracks);
+    summary.adjustment_seconds += record.adjustment.solve_time_s;
+
+    // Outliers.
+    record.num_filtered_points = FilterPoints(options.max_point_error_px, &model);
+    std::vector<LineTrack> kept;
+    for (LineTrack& track : tracks) {
+      if (IsLineInitialized(track) && track.error >= 0.0 &&
+          track.error <= options.max_line_error_px) {
+        kept.push_back(std::move(track));
+      }
+    }
+    record.num_filtered_lines = static_cast<int>(tracks.size() - kept.size());
+    tracks = std::move(kept);
+    SetReconstructionLines(tracks, &model);
+
+    // Convergence.
+    double sum_change = 0.0;
+    for (const Image& image : model.images) {
+      const Rigid3d& before = poses_before.at(image.image_id);
+      const double change = (image.ProjectionCenter() -
+                             before.Inverse().translation)
+                                .norm();
+      record.max_position_change_m =
+          std::max(record.max_position_change_m, change);
+      sum_change += change;
+      record.max_rotation_change_deg =
+          std::max(record.max_rotation_change_deg,
+                   RotationAngleDeg(image.cam_from_world.rotation,
+                                    before.rotation));
+    }
+    record.mean_position_change_m = sum_change / model.images.size();
+    record.seconds = SecondsSince(iteration_start);
+    LOG(INFO) << "lidar_mapper: iteration " << iteration + 1 << ": "
+              << record.num_points << " points, " << record.num_line_tracks
+              << " line tracks" << (use_lines ? "" : " (points only)")
+              << "; pose change max " << record.max_position_change_m
+              << " m / " << record.max_rotation_change_deg << " deg, mean "
+              << record.mean_position_change_m << " m; "
+              << record.adjustment.ToString();
+    summary.iterations.push_back(record);
+    if (use_lines && iteration > 0 &&
+        record.max_position_change_m < options.max_position_change_m &&
+        record.max_rotation_change_deg < options.max_rotation_change_deg) {
+      summary.converged = true;
+      break;
+    }
+  }
+  summary.iterations_seconds = SecondsSince(stage_start);
+
+  // ---- 6. Output.
+  WriteReconstruction(paths.output_path, model, ModelFormat::kBinary);
+  WriteLines3DPly(paths.lines_ply_path, model);
+  summary.num_points = static_cast<int>(model.points3D.size());
+  summary.num_lines = static_cast<int>(model.lines3D.size());
+  summary.total_seconds = SecondsSince(start_time);
+  return summary;
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,173 @@
+// lidar_mapper: the camera + LIDAR structure from motion of the paper
+// (Amblard et al., section III: B lines, C association, D adjustment) on a
+// COLMAP workspace that holds prior poses (lidar_importer), glued to stock
+// COLMAP for the point features:
+//
+//   1. features   stock `feature_extractor` (CPU SIFT), skipped when every
+//                 image has keypoints;
+//   2. matches    stock `exhaustive_matcher` up to
+//                 exhaustive_max_num_images images, else
+//                 `sequential_matcher` (stock matchers skip pairs already
+//                 matched);
+//   3. lines      line_extractor (src/lines) when ext_line_segments is empty;
+//   4. initial poses, see init_method below;
+//   5. iterations, as COLMAP's mapper alternates BA and triangulation:
+//        stock `point_triangulator` with the current poses held fixed
+//        (--clear_points 1, intrinsics fixed) -> line association
+//        (MatchWorkspaceLines) with tolerances from the current pose
+//        uncertainty -> LineBundleAdjuster (points, lines, LIDAR lines,
+//        pose priors) -> outlier filtering (points and line tracks above
+//        a reprojection error), until the largest camera displacement of an
+//        iteration is below max_position_change_m and the largest rotation
+//        change below max_rotation_change_deg, or max_num_iterations;
+//   6. output     <output_path> (default sparse/refined): a COLMAP model
+//                 readable by stock colmap, plus lines3D.bin, and a PLY of
+//                 the final 3D segments.
+//
+// Initialisation (measured on the default synthetic scene, priors with
+// 0.5 m / 5 deg noise; see docs/benchmarks/lidar_mapper.md):
+// - "mapper" (default): stock `colmap mapper` without priors, its largest
+//   model aligned to the prior camera centres by a sim3 (Umeyama). Relative
+//   poses are then accurate to about a centimetre and the association works
+//   with tight tolerances from the first iteration. Images the mapper did
+//   not register start at their prior pose. When the mapper fails (or
+//   registers fewer than 3 images) the run continues as "priors", with a
+//   warning.
+// - "priors": the prior poses directly; the first iteration then adjusts
+//   points only (lines are associated from the second iteration on), since
+//   with metre-level pose errors the line association is mostly wrong.
+//
+// Gauge: the pose priors (sigmas prior_position_sigma_m,
+// prior_rotation_sigma_deg) fix the world frame in every iteration
+// (LineBAGauge::kPosePriors); the LIDAR lines fix the scale.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "src/lines/line_extractor.h"
+#include "src/matching/line_matching_options.h"
+#include "src/optim/line_bundle_adjustment.h"
+
+namespace colmap_lidar {
+
+struct LidarMapperOptions {
+  // Stock colmap binary (see ColmapRunnerOptions); empty: $COLMAP_BINARY or
+  // `colmap` on PATH.
+  std::string colmap_binary = "";
+  // Threads for colmap and our stages; <= 0: all cores.
+  int num_threads = -1;
+
+  // ---- Features and matches (stock colmap).
+  // SiftExtraction.max_image_size.
+  int sift_max_image_size = 3200;
+  // SiftExtraction.max_num_features.
+  int sift_max_num_features = 8192;
+  // Exhaustive matching up to this many images, sequential beyond.
+  int exhaustive_max_num_images = 100;
+  // SequentialMatching.overlap when sequential.
+  int sequential_overlap = 15;
+
+  // ---- Initial poses: "mapper" or "priors" (see the file comment).
+  std::string init_method = "mapper";
+  // Stock mapper's Mapper.abs_pose_min_num_inliers / _min_inlier_ratio
+  // (colmap's defaults). Measured on the default scene: the stock values
+  // register 53 of 60 images; 12 / 0.1 register all 60 but the model is
+  // wrong (sim3 error of metres, flipped cameras), so do not lower them.
+  int mapper_abs_pose_min_num_inliers = 30;
+  double mapper_abs_pose_min_inlier_ratio = 0.25;
+
+  // ---- Iterations.
+  int max_num_iterations = 5;
+  // Convergence: largest camera centre change (metres) and rotation change
+  // (degrees) of an iteration.
+  double max_position_change_m = 0.005;
+  double max_rotation_change_deg = 0.05;
+  // Pose uncertainty given to the association (LineMatchingOptions
+  // pose_sigma_*): in the first line iteration (after the initialisation)
+  // and once the poses were adjusted with lines.
+  double initial_pose_sigma_t_m = 0.05;
+  double initial_pose_sigma_r_deg = 0.2;
+  double refined_pose_sigma_t_m = 0.01;
+  double refined_pose_sigma_r_deg = 0.05;
+  // Outlier filtering after each adjustment: points and line tracks with a
+  // larger mean reprojection error (pixels) are removed.
+  double max_point_error_px = 4.0;
+  double max_line_error_px = 4.0;
+  // Stock point_triangulator's Mapper.filter_max_reproj_error, pixels.
+  double triangulation_max_error_px = 4.0;
+
+  // ---- Pose priors (the importer's prior columns) in the adjustment.
+  double prior_position_sigma_m = 0.5;
+  double prior_rotation_sigma_deg = 5.0;
+
+  // Stage options; lidar_mapper sets the pose-uncertainty, gauge, prior and
+  // thread fields itself.
+  LineExtractionOptions extraction;
+  LineMatchingOptions matching;
+  LineBundleAdjustmentOptions adjustment;
+
+  bool Check() const;
+};
+
+struct LidarMapperIteration {
+  int num_points = 0;
+  int num_line_tracks = 0;
+  LineBundleAdjustmentSummary adjustment;
+  double max_position_change_m = 0.0;
+  double mean_position_change_m = 0.0;
+  double max_rotation_change_deg = 0.0;
+  int num_filtered_points = 0;
+  int num_filtered_lines = 0;
+  double seconds = 0.0;
+};
+
+struct LidarMapperSummary {
+  int num_images = 0;
+  // Images registered by the initialisation (all, for "priors").
+  int num_initial_images = 0;
+  double prior_alignment_rms_m = -1.0;
+  std::vector<LidarMapperIteration> iterations;
+  bool converged = false;
+  int num_points = 0;
+  int num_lines = 0;
+  std::string output_path;
+  std::string lines_ply_path;
+  double features_seconds = 0.0;
+  double lines_seconds = 0.0;
+  double init_seconds = 0.0;
+  double iterations_seconds = 0.0;
+  double adjustment_seconds = 0.0;
+  double total_seconds = 0.0;
+
+  std::string Format() const;
+};
+
+struct LidarMapperPaths {
+  // Workspace with database.db, images/ and sparse/prior (lidar_importer).
+  std::string workspace_path;
+  // Defaults (empty): <workspace>/database.db, <workspace>/images,
+  // <workspace>/sparse/refined, <output_path>/lines3D.ply.
+  std::string database_path;
+  std::string image_path;
+  std::string output_path;
+  std::string lines_ply_path;
+};
+
+// Runs the pipeline of the file comment. Intermediate models go to
+// <workspace>/sparse/lidar_mapper/, stock colmap's output to
+// <workspace>/lidar_mapper_colmap.log. Throws colmap_lidar::Error naming
+// the file or stage on a missing database, fewer than 3 images with
+// priors, or a failed colmap run (other than the mapper, see above).
+LidarMapperSummary RunLidarMapper(const LidarMapperPaths& paths,
+                                  const LidarMapperOptions& options);
+
+// Removes points whose error exceeds max_error_px (or whose track is
+// shorter than 2) and the references to them; returns how many.
+int FilterPoints(double max_error_px, Reconstruction* model);
+
+// Writes the line tracks' segments (world frame) as a PLY line set
+// (src/eval/segment_io.h format).
+void WriteLines3DPly(const std::string& path, const Reconstruction& model);
+
+}  // namespace colmap_lidar
