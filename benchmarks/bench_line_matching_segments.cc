@@ -9,8 +9,16 @@
 // 0.5 px endpoint noise and 2 cm depth noise along the ray. Descriptors are
 // zero (t_LBD has no effect): the geometry alone is measured.
 //
-// Usage: bench_line_matching_segments DATASET_DIR DATABASE_PATH
+// With LABELS_PATH, the edge each segment comes from is written there, one
+// "image_name segment_idx edge_idx" per line (edge_idx: 0-based line of
+// crease_edges.txt without comments), so that scripts/eval_line_tracks.py
+// --segment_labels scores tracks by the true edge instead of the nearest
+// one: with 2 cm depth noise, the nearest-edge label of an observation of
+// one of two edges 2 cm apart is a coin toss.
+//
+// Usage: bench_line_matching_segments DATASET_DIR DATABASE_PATH [LABELS_PATH]
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <random>
@@ -25,9 +33,19 @@
 using namespace colmap_lidar;
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::cerr << "Usage: " << argv[0] << " DATASET_DIR DATABASE_PATH\n";
+  if (argc != 3 && argc != 4) {
+    std::cerr << "Usage: " << argv[0]
+              << " DATASET_DIR DATABASE_PATH [LABELS_PATH]\n";
     return 1;
+  }
+  std::ofstream labels;
+  if (argc == 4) {
+    labels.open(argv[3]);
+    if (!labels) {
+      std::cerr << "Cannot write " << argv[3] << "\n";
+      return 1;
+    }
+    labels << "# image_name segment_idx edge_idx (crease_edges.txt order)\n";
   }
   const std::string dataset = argv[1];
   Database database(argv[2]);
@@ -48,7 +66,8 @@ int main(int argc, char** argv) {
     const Mat<float> depth = ReadMat<float>(
         JoinPaths(dataset, "ground_truth/depth_maps/" + frame + ".bin"));
     std::vector<LineSegmentRecord> segments;
-    for (const Segment3D& edge : edges) {
+    for (size_t edge_idx = 0; edge_idx < edges.size(); ++edge_idx) {
+      const Segment3D& edge = edges[edge_idx];
       const Eigen::Vector3d a = pose * edge.start;
       const Eigen::Vector3d b = pose * edge.end;
       const int num_samples =
@@ -100,6 +119,10 @@ int main(int argc, char** argv) {
       record.start3D_in_cam = p0 * (1.0 + 0.02 * normal(rng) / p0.norm());
       record.end3D_in_cam = p1 * (1.0 + 0.02 * normal(rng) / p1.norm());
       record.num_inliers = 10;
+      if (labels.is_open()) {
+        labels << image.name << ' ' << segments.size() << ' ' << edge_idx
+               << '\n';
+      }
       segments.push_back(record);
     }
     total += segments.size();

@@ -2,9 +2,11 @@
 # Accuracy and speed benchmark of the 3D/3D line association (paper section
 # III-C, issue 5) on the default synthetic scene:
 #   synthesize -> lidar_importer -> line_extractor -> line_matcher
-# with ground-truth poses and with the noisy priors (0.5 m, 5 deg), printing
-# track precision against the ground-truth crease edges
-# (scripts/eval_line_tracks.py) and the association time.
+# with ground-truth poses and with the noisy priors (0.5 m, 5 deg; the
+# matcher registers the view pairs on their segments), printing track
+# precision against the ground-truth crease edges
+# (scripts/eval_line_tracks.py; with SEGMENTS=gt against the edge each
+# segment was made from) and the association time.
 #
 # Usage: scripts/bench_line_matching.sh [WORK_DIR] [extra line_matcher args]
 # Env: COLMAP_LIDAR (default build/colmap-lidar), NUM_FRAMES (default 60),
@@ -52,7 +54,7 @@ if [[ ! -f "${WS}/database.db" ]]; then
     > "${WORK}/import.log" 2>&1
   if [[ "${SEGMENTS}" == "gt" ]]; then
     "$(dirname "${BIN}")/benchmarks/bench_line_matching_segments" \
-      "${DATASET}" "${WS}/database.db"
+      "${DATASET}" "${WS}/database.db" "${WS}/segment_labels.txt"
   else
     "${BIN}" line_extractor --database_path "${WS}/database.db" \
       --image_path "${WS}/images" > "${WORK}/line_extractor.log" 2>&1
@@ -64,6 +66,11 @@ rm -rf "${WS_GT}"
 "${BIN}" lidar_importer --dataset_path "${DATASET_GT}" \
   --workspace_path "${WS_GT}" --LidarImport.copy_images 0 \
   --LidarImport.copy_scans 0 > "${WORK}/import_gt.log" 2>&1
+
+EVAL_ARGS=()
+if [[ "${SEGMENTS}" == "gt" ]]; then
+  EVAL_ARGS=(--segment_labels "${WS}/segment_labels.txt")
+fi
 
 run() {  # label model_dir extra args...
   local label="$1" model="$2"
@@ -80,7 +87,7 @@ run() {  # label model_dir extra args...
   echo "  Wall time of the command: $(echo "${end} - ${start}" | bc) s"
   python3 "${SOURCE_DIR}/scripts/eval_line_tracks.py" \
     "${WORK}/tracks_${SEGMENTS}_${label}.json" "${DATASET}/poses_gt.txt" \
-    "${DATASET}/ground_truth/crease_edges.txt" | sed 's/^/  /'
+    "${DATASET}/ground_truth/crease_edges.txt" "${EVAL_ARGS[@]}" | sed 's/^/  /'
 }
 
 run gt "${WS_GT}/sparse/prior" "$@"

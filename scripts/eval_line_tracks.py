@@ -9,7 +9,11 @@ world_from_cam poses (TUM layout, frame name first); CREASE_EDGES.txt the
 synthesizer's ground_truth/crease_edges.txt. Each observation is taken to the
 world with the ground-truth pose and labelled with the nearest ground-truth
 edge (mean endpoint-to-segment distance <= --max_distance, angle <=
---max_angle_deg); observations with no such edge are unlabelled.
+--max_angle_deg); observations with no such edge are unlabelled. With
+--segment_labels FILE ("image_name segment_idx edge_idx" lines, as
+benchmarks/bench_line_matching_segments writes for its ground-truth
+segments), each observation carries the edge it was made from instead: the
+nearest-edge label cannot tell apart edges closer than the depth noise.
 
 Printed: tracks, mean observations per track, labelled share, and
 - precision: share of tracks whose observations all carry one and the same
@@ -87,7 +91,17 @@ def main():
     parser.add_argument('crease_edges')
     parser.add_argument('--max_distance', type=float, default=0.15)
     parser.add_argument('--max_angle_deg', type=float, default=10.0)
+    parser.add_argument('--segment_labels', default=None)
     args = parser.parse_args()
+
+    true_labels = None
+    if args.segment_labels:
+        true_labels = {}
+        for line in open(args.segment_labels):
+            if line.startswith('#') or not line.strip():
+                continue
+            name, segment_idx, edge_idx = line.split()
+            true_labels[(name, int(segment_idx))] = int(edge_idx)
 
     poses = read_poses(args.poses_gt)
     edges = read_edges(args.crease_edges)
@@ -122,6 +136,11 @@ def main():
         labels = []
         for obs in track['observations']:
             num_observations += 1
+            if true_labels is not None:
+                best = true_labels.get((obs['image_name'], obs['segment_idx']))
+                labels.append(best)
+                num_labelled += best is not None
+                continue
             frame = os.path.splitext(os.path.basename(obs['image_name']))[0]
             rotation, translation = poses[frame]
             world = []
@@ -147,9 +166,10 @@ def main():
         pure_labelled += len(set(known)) <= 1
         pure_collinear += len(set(find(l) for l in known)) <= 1
     n = max(1, len(tracks))
-    print('tracks %d, observations %d, mean track length %.2f, labelled %.1f%%' %
+    print('tracks %d, observations %d, mean track length %.2f, labelled %.1f%%%s' %
           (len(tracks), num_observations, num_observations / n,
-           100.0 * num_labelled / max(1, num_observations)))
+           100.0 * num_labelled / max(1, num_observations),
+           ' (true edges)' if true_labels is not None else ''))
     print('precision %.2f%%, precision_labelled %.2f%%, precision_collinear %.2f%%' %
           (100.0 * pure / n, 100.0 * pure_labelled / n, 100.0 * pure_collinear / n))
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -161,6 +162,33 @@ TEST(Cli, BadValueFailsNamingIt) {
   EXPECT_NE(out_of_range.exit_code, 0);
   EXPECT_TRUE(Contains(out_of_range.output, "LidarImport.kitti_camera"))
       << out_of_range.output;
+}
+
+TEST(Cli, MeshEvaluatorAlignmentNeedsModelAndPoses) {
+  const std::string dir = testing::CreateTestDir();
+  const std::string ply = JoinPaths(dir, "points.ply");
+  std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 1\n"
+                        "property float x\nproperty float y\n"
+                        "property float z\nend_header\n0 0 0\n";
+  const std::string base = "mesh_evaluator --input_path " + Quote(ply) +
+                           " --reference_path " + Quote(ply);
+  const Result bad_value = RunCli(base + " --alignment affine");
+  EXPECT_NE(bad_value.exit_code, 0);
+  EXPECT_TRUE(Contains(bad_value.output, "--alignment must be none, se3 or "
+                                         "sim3, got 'affine'"))
+      << bad_value.output;
+  const Result no_model = RunCli(base + " --alignment se3");
+  EXPECT_NE(no_model.exit_code, 0);
+  EXPECT_TRUE(Contains(no_model.output, "needs --alignment_model_path"))
+      << no_model.output;
+  const Result no_poses =
+      RunCli(base + " --alignment se3 --alignment_model_path " + Quote(dir) +
+             " --ground_truth_poses_path " + Quote(JoinPaths(dir, "gt.txt")));
+  EXPECT_NE(no_poses.exit_code, 0);
+  EXPECT_TRUE(Contains(no_poses.output,
+                       "--ground_truth_poses_path '" +
+                           JoinPaths(dir, "gt.txt") + "' does not exist"))
+      << no_poses.output;
 }
 
 TEST(Cli, LibraryErrorBecomesErrorMessage) {

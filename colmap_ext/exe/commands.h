@@ -67,4 +67,8 @@ int RunLidarOdometryCommand(int argc, char** argv);
 int RunLineBundleAdjuster(int argc, char** argv);
 int RunLidarMapperCommand(int argc, char** argv);
 
+// pipeline_commands.cc
+int RunAutomaticReconstructorCommand(int argc, char** argv);
+int RunReportCommand(int argc, char** argv);
+
 }  // namespace colmap_lidar

@@ -5,12 +5,12 @@
 
 #include "colmap_ext/exe/commands.h"
 #include "colmap_ext/exe/option_manager.h"
+#include "colmap_ext/exe/option_sections.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "src/dataset/importer.h"
 
 namespace colmap_lidar {
-namespace {
 
 // Section [LidarImport]; keep configs/lidar_importer.ini in step.
 void AddImporterOptions(ImporterOptions* importer, OptionManager* options) {
@@ -32,8 +32,6 @@ void AddImporterOptions(ImporterOptions* importer, OptionManager* options) {
                      "is an error.");
   options->AddCheck([importer] { return importer->Check(); });
 }
-
-}  // namespace
 
 int RunLidarImporter(int argc, char** argv) {
   std::string dataset_path;

@@ -135,6 +135,9 @@ int RunMeshEvaluator(int argc, char** argv) {
   std::string output_path;
   std::string colored_path;
   std::string colored_reference_path;
+  std::string alignment = "none";
+  std::string alignment_model_path;
+  std::string ground_truth_poses_path;
   MeshEvaluationOptions evaluation_options;
 
   OptionManager options;
@@ -152,21 +155,62 @@ int RunMeshEvaluator(int argc, char** argv) {
   options.AddOption("colored_reference_path", &colored_reference_path,
                     "PLY of the reference points coloured by distance to "
                     "the estimate (recall view); empty: none.");
+  options.AddOption("alignment", &alignment,
+                    "none | se3 | sim3: before the comparison, the estimate "
+                    "(and the observed cloud) are carried into the "
+                    "reference's frame by the Umeyama fit of "
+                    "alignment_model_path's camera centres to "
+                    "ground_truth_poses_path (the gauge of a reconstruction "
+                    "from noisy priors).");
+  options.AddOption("alignment_model_path", &alignment_model_path,
+                    "Sparse model whose poses the estimate was built with; "
+                    "needed unless alignment is none.");
+  options.AddOption("ground_truth_poses_path", &ground_truth_poses_path,
+                    "Ground-truth poses (poses_gt.txt layout); needed "
+                    "unless alignment is none.");
   AddMeshEvaluationOptions(&evaluation_options, &options);
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
   }
-  for (const auto& [name, path] :
-       {std::pair<std::string, std::string>("--input_path", input_path),
-        {"--reference_path", reference_path}}) {
+  if (alignment != "none" && alignment != "se3" && alignment != "sim3") {
+    LOG(ERROR) << "--alignment must be none, se3 or sim3, got '" << alignment
+               << "'";
+    return EXIT_FAILURE;
+  }
+  std::vector<std::pair<std::string, std::string>> required_files = {
+      {"--input_path", input_path}, {"--reference_path", reference_path}};
+  if (alignment != "none") {
+    required_files.emplace_back("--ground_truth_poses_path",
+                                ground_truth_poses_path);
+    if (!ExistsDir(alignment_model_path)) {
+      LOG(ERROR) << "--alignment " << alignment
+                 << " needs --alignment_model_path, a sparse model folder; "
+                    "got '"
+                 << alignment_model_path << "'";
+      return EXIT_FAILURE;
+    }
+  }
+  for (const auto& [name, path] : required_files) {
     if (!ExistsFile(path)) {
-      LOG(ERROR) << name << " " << path << " does not exist";
+      LOG(ERROR) << name << " '" << path << "' does not exist";
       return EXIT_FAILURE;
     }
   }
 
-  const MeshEvaluation evaluation =
-      EvaluateMeshFiles(input_path, reference_path, evaluation_options);
+  Eigen::Affine3d reference_from_estimate = Eigen::Affine3d::Identity();
+  if (alignment != "none") {
+    PoseEvaluationOptions pose_options;
+    pose_options.alignment = alignment;
+    const PoseEvaluation poses =
+        EvaluatePoses(ReadReconstruction(alignment_model_path),
+                      ReadPoses(ground_truth_poses_path), pose_options);
+    reference_from_estimate = GroundTruthFromEstimate(poses);
+    LOG(INFO) << "Aligned (" << alignment << ") by " << poses.num_matched
+              << " camera centres, mean residual "
+              << poses.position_stats_m.mean << " m";
+  }
+  const MeshEvaluation evaluation = EvaluateMeshFiles(
+      input_path, reference_path, evaluation_options, reference_from_estimate);
   std::cout << FormatMeshEvaluation(evaluation) << std::flush;
   if (!output_path.empty()) {
     WriteMeshEvaluationJson(output_path, evaluation);

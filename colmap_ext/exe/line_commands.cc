@@ -54,6 +54,10 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
   options->AddOption(s + "edge_occlusion_range_gap",
                      &o->edges.occlusion_range_gap,
                      "Range jump of an occlusion boundary, metres, > 0.");
+  options->AddOption(s + "edge_occlusion_range_ratio",
+                     &o->edges.occlusion_range_ratio,
+                     "... or this fraction of the nearer range when smaller "
+                     "(0: off), >= 0.");
   options->AddOption(s + "edge_parallel_beam_ratio",
                      &o->edges.parallel_beam_ratio,
                      "Parallel-beam rejection: range step / range, > 0.");
@@ -124,6 +128,10 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
                      &o->association.refine_max_range_jump,
                      "Range jump between ring neighbours not interpolated "
                      "(occluding contour), metres.");
+  options->AddOption(s + "refine_range_jump_ratio",
+                     &o->association.refine_range_jump_ratio,
+                     "... or this fraction of the nearer range when smaller "
+                     "(0: off), >= 0.");
   options->AddOption(s + "fit_in_viewing_plane",
                      &o->association.fit_in_viewing_plane,
                      "Refit the 3D line inside the 2D segment's viewing "

@@ -33,6 +33,10 @@ void AddLineMatchingOptions(LineMatchingOptions* o, OptionManager* options) {
   options->AddOption(s + "min_overlap", &o->min_overlap,
                      "Extra criterion: overlap along the line / shorter "
                      "segment, [0, 1]; 0 disables it.");
+  options->AddOption(s + "max_rival_score_ratio", &o->max_rival_score_ratio,
+                     "Extra criterion: drop the match when a segment side by "
+                     "side with it scores within this ratio, (0, 1]; 1 "
+                     "disables it.");
   options->AddOption(s + "pose_sigma_t_m", &o->pose_sigma_t_m,
                      "Prior pose uncertainty: camera centre std per axis, "
                      "metres, >= 0 (0: exact poses).");
@@ -42,6 +46,21 @@ void AddLineMatchingOptions(LineMatchingOptions* o, OptionManager* options) {
                      &o->pose_uncertainty_scale,
                      "Thresholds grow by this many relative-pose standard "
                      "deviations, >= 0.");
+  options->AddOption(s + "refine_relative_poses", &o->refine_relative_poses,
+                     "With pose_sigma_* > 0: register the view pairs on "
+                     "their 3D segments, correct the poses by a robust pose "
+                     "graph, then match with the exact-pose thresholds "
+                     "between views it connects, 0/1.");
+  options->AddOption(s + "relative_pose_min_inliers",
+                     &o->relative_pose_min_inliers,
+                     "Inlier segments a pair registration needs, >= 2.");
+  options->AddOption(s + "relative_pose_inlier_angle_deg",
+                     &o->relative_pose_inlier_angle_deg,
+                     "Registration inlier scale: angle, degrees, > 0.");
+  options->AddOption(s + "relative_pose_inlier_distance_m",
+                     &o->relative_pose_inlier_distance_m,
+                     "Registration inlier scale: mean endpoint to line "
+                     "distance, metres, > 0.");
   options->AddOption(s + "num_visibility_samples",
                      &o->num_visibility_samples,
                      "Points sampled along a segment for the field of view "

@@ -6,12 +6,12 @@
 
 #include "colmap_ext/exe/commands.h"
 #include "colmap_ext/exe/option_manager.h"
+#include "colmap_ext/exe/option_sections.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "src/mesh/delaunay_mesher.h"
 
 namespace colmap_lidar {
-namespace {
 
 // Section [DelaunayMeshing]; keep configs/lidar_delaunay_mesher.ini in step.
 void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
@@ -44,6 +44,18 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      &input->line_sample_step_m,
                      "Spacing of the samples along a 3D line segment, "
                      "metres, > 0.");
+  options->AddOption("DelaunayMeshing.lidar_denoise_radius_m",
+                     &input->lidar_denoising.radius_m,
+                     "LIDAR voxels are projected onto the plane fitted to "
+                     "the voxels within this radius when that neighbourhood "
+                     "is planar, metres; 0 disables. >= 0.");
+  options->AddOption("DelaunayMeshing.lidar_denoise_max_plane_std_m",
+                     &input->lidar_denoising.max_plane_std_m,
+                     "A neighbourhood is planar when its standard deviation "
+                     "along the fitted normal is below this, metres, > 0.");
+  options->AddOption("DelaunayMeshing.lidar_denoise_min_neighbors",
+                     &input->lidar_denoising.min_neighbors,
+                     "Fewest voxels within the radius for a plane fit, >= 3.");
   options->AddOption("DelaunayMeshing.max_proj_dist_px",
                      &meshing->max_proj_dist_px,
                      "A visual point whose projection is within this many "
@@ -55,8 +67,10 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      "[0, 1].");
   options->AddOption("DelaunayMeshing.min_lidar_vertex_distance_m",
                      &meshing->min_lidar_vertex_distance_m,
-                     "A LIDAR voxel closer than this to a vertex is merged "
-                     "into it, metres; 0 inserts all. >= 0.");
+                     "A LIDAR voxel closer than this to a visual or line "
+                     "vertex is merged into it (the LIDAR-initialised depth "
+                     "maps refine the voxel there), metres; 0 inserts all. "
+                     ">= 0.");
   options->AddOption("DelaunayMeshing.distance_sigma_factor",
                      &meshing->distance_sigma_factor,
                      "Free-space weight falloff sigma near a point, relative "
@@ -90,7 +104,6 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
   });
 }
 
-}  // namespace
 
 int RunLidarDelaunayMesher(int argc, char** argv) {
   std::string workspace_path;

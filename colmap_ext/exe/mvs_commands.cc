@@ -6,6 +6,7 @@
 
 #include "colmap_ext/exe/commands.h"
 #include "colmap_ext/exe/option_manager.h"
+#include "colmap_ext/exe/option_sections.h"
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
@@ -13,7 +14,6 @@
 #include "src/mvs/lidar_patch_match_stereo.h"
 
 namespace colmap_lidar {
-namespace {
 
 // Section [LidarFusion]; keep configs/lidar_fuser.ini in step.
 void AddLidarFusionOptions(LidarFusionOptions* o, OptionManager* options) {
@@ -123,7 +123,6 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddCheck([o] { return o->Check(); });
 }
 
-}  // namespace
 
 int RunLidarFuserCommand(int argc, char** argv) {
   std::string database_path;

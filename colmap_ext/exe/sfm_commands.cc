@@ -6,6 +6,7 @@
 
 #include "colmap_ext/exe/commands.h"
 #include "colmap_ext/exe/option_manager.h"
+#include "colmap_ext/exe/option_sections.h"
 #include "colmap_ext/database/line_tracks_table.h"
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
@@ -112,6 +113,8 @@ void AddAdjustmentOptions(LineBundleAdjustmentOptions* o, AdjustmentNames* n,
   });
 }
 
+}  // namespace
+
 // Section [LidarMapper]; keep configs/lidar_mapper.ini in step.
 void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
   const std::string s = "LidarMapper.";
@@ -129,9 +132,20 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "sequential beyond, >= 0.");
   options->AddOption(s + "sequential_overlap", &o->sequential_overlap,
                      "SequentialMatching.overlap, > 0.");
+  options->AddOption(s + "sequential_quadratic_overlap",
+                     &o->sequential_quadratic_overlap,
+                     "SequentialMatching.quadratic_overlap, 0/1.");
   options->AddOption(s + "init_method", &o->init_method,
-                     "Initial poses: mapper (stock mapper + sim3 to the "
-                     "priors) or priors.");
+                     "Initial poses: mapper (stock mapper + robust sim3 to "
+                     "the priors), model (init_model_path instead of the "
+                     "mapper) or priors.");
+  options->AddOption(s + "init_model_path", &o->init_model_path,
+                     "Sparse model for init_method model.");
+  options->AddOption(s + "init_min_num_inliers", &o->init_min_num_inliers,
+                     "The initial model is rejected unless this many images "
+                     "agree with their priors, >= 3.");
+  options->AddOption(s + "init_min_inlier_ratio", &o->init_min_inlier_ratio,
+                     "... and this fraction of its images, [0, 1].");
   options->AddOption(s + "mapper_abs_pose_min_num_inliers",
                      &o->mapper_abs_pose_min_num_inliers,
                      "Stock mapper's Mapper.abs_pose_min_num_inliers, > 0.");
@@ -173,7 +187,12 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "metres, > 0.");
   options->AddOption(s + "prior_rotation_sigma_deg",
                      &o->prior_rotation_sigma_deg,
-                     "Pose prior sigma on the orientation, degrees, > 0.");
+                     "RMS angle of the orientation priors, degrees, > 0 "
+                     "(per-axis sigma = this / sqrt(3)).");
+  options->AddOption(s + "max_prior_outlier_ratio",
+                     &o->max_prior_outlier_ratio,
+                     "An iteration leaving more images outside the 99.9 % "
+                     "region of their priors is undone, [0, 1].");
   // The association thresholds most worth tuning; the others keep their
   // defaults (see line_matcher).
   const std::string m = "LineMatching.";
@@ -195,8 +214,6 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "Tracks with fewer observations are dropped, >= 2.");
   options->AddCheck([o] { return o->Check(); });
 }
-
-}  // namespace
 
 int RunLineBundleAdjuster(int argc, char** argv) {
   std::string database_path;

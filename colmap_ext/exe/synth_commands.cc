@@ -5,12 +5,12 @@
 
 #include "colmap_ext/exe/commands.h"
 #include "colmap_ext/exe/option_manager.h"
+#include "colmap_ext/exe/option_sections.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "src/synth/synthesize.h"
 
 namespace colmap_lidar {
-namespace {
 
 // Section [Synthesis]; keep configs/synthesize.ini in step.
 void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
@@ -19,6 +19,10 @@ void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
                      "| street (80 m street canyon).");
   options->AddOption("Synthesis.num_frames", &synth->num_frames,
                      "Frames (image + LIDAR scan) along the walk, >= 1.");
+  options->AddOption("Synthesis.path_fraction", &synth->path_fraction,
+                     "Share of the preset's walk path the frames cover, "
+                     "from its start, (0, 1]; below 1 gives a short, densely "
+                     "sampled walk (small test scenes).");
   options->AddOption("Synthesis.seed", &synth->seed,
                      "Seed of all noise (trajectory jitter, LIDAR, priors, "
                      "image noise, survey); the scene is fixed per preset.");
@@ -92,8 +96,6 @@ void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
                      "z-depth).");
   options->AddCheck([synth] { return synth->Check(); });
 }
-
-}  // namespace
 
 int RunSynthesize(int argc, char** argv) {
   std::string output_path;

@@ -11,12 +11,14 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/resource_usage.h"
 #include "colmap_ext/util/string.h"
 
 extern char** environ;
@@ -105,11 +107,14 @@ pid_t Spawn(const std::vector<std::string>& args, int out_fd) {
 // Waits for `pid` and returns the raw wait status.
 int Wait(const pid_t pid, const std::vector<std::string>& args) {
   int status = 0;
-  while (::waitpid(pid, &status, 0) == -1) {
-    THROW_CHECK(errno == EINTR, "waitpid failed for " << JoinForDisplay(args)
+  rusage usage{};
+  while (::wait4(pid, &status, 0, &usage) == -1) {
+    THROW_CHECK(errno == EINTR, "wait4 failed for " << JoinForDisplay(args)
                                                       << ": "
                                                       << std::strerror(errno));
   }
+  // ru_maxrss is in KiB on Linux.
+  RecordChildPeakMemory(static_cast<size_t>(usage.ru_maxrss) * 1024);
   return status;
 }
 
@@ -203,14 +208,7 @@ std::string ColmapRunner::FindColmapBinary(const std::string& hint) {
     }
   }
 
-  std::string found;
-  if (requested.find('/') != std::string::npos) {
-    if (IsExecutableFile(requested)) {
-      found = std::filesystem::absolute(requested).string();
-    }
-  } else {
-    found = SearchPath(requested);
-  }
+  const std::string found = FindExecutable(requested);
   THROW_CHECK(!found.empty(),
               "The stock COLMAP binary was not found (looked for '"
                   << requested << "' from " << source
@@ -268,13 +266,34 @@ void ColmapRunner::Run(
     args.push_back(StringStartsWith(key, "--") ? key : "--" + key);
     args.push_back(value);
   }
+  RunLoggedProcess(args, log_path_, options_.num_log_tail_lines,
+                   "colmap " + command);
+}
+
+std::string FindExecutable(const std::string& name) {
+  if (name.find('/') != std::string::npos) {
+    return IsExecutableFile(name) ? std::filesystem::absolute(name).string()
+                                  : "";
+  }
+  return SearchPath(name);
+}
+
+void RunLoggedProcess(const std::vector<std::string>& args,
+                      const std::string& log_path,
+                      const int num_log_tail_lines,
+                      const std::string& display_name) {
+  THROW_CHECK(!args.empty(), "RunLoggedProcess: no command");
   const std::string command_line = JoinForDisplay(args);
+  THROW_CHECK(args[0].find('/') != std::string::npos &&
+                  IsExecutableFile(args[0]),
+              "Cannot run " << command_line << ": " << args[0]
+                            << " is not an executable path");
 
   const int log_fd =
-      ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC,
+      ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC,
              0644);
-  THROW_CHECK(log_fd >= 0, "Cannot open the colmap log file "
-                               << log_path_ << ": " << std::strerror(errno));
+  THROW_CHECK(log_fd >= 0, "Cannot open the log file "
+                               << log_path << ": " << std::strerror(errno));
   struct stat log_info;
   const std::streamoff run_offset =
       (::fstat(log_fd, &log_info) == 0) ? log_info.st_size : 0;
@@ -285,7 +304,7 @@ void ColmapRunner::Run(
 
   if (!header_ok) {
     ::close(log_fd);
-    THROW_ERROR("Cannot write the colmap log file " << log_path_);
+    THROW_ERROR("Cannot write the log file " << log_path);
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -303,14 +322,15 @@ void ColmapRunner::Run(
                                .count();
 
   const bool success = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  LOG(INFO) << "colmap " << command << (success ? "" : " FAILED") << " in "
+  LOG(INFO) << display_name << (success ? "" : " FAILED") << " in "
             << elapsed_s << " s: " << command_line;
-  THROW_CHECK(success, "colmap " << command << " failed with "
-                                 << DescribeStatus(status) << ".\nCommand: "
-                                 << command_line << "\nLog: " << log_path_
-                                 << "\nLast lines of the log:\n"
-                                 << ReadLogTail(log_path_, run_offset,
-                                                options_.num_log_tail_lines));
+  THROW_CHECK(success, display_name << " failed with "
+                                    << DescribeStatus(status)
+                                    << ".\nCommand: " << command_line
+                                    << "\nLog: " << log_path
+                                    << "\nLast lines of the log:\n"
+                                    << ReadLogTail(log_path, run_offset,
+                                                   num_log_tail_lines));
 }
 
 }  // namespace colmap_lidar

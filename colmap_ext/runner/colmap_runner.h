@@ -66,4 +66,18 @@ class ColmapRunner {
   std::string log_path_;
 };
 
+// The absolute path of an executable: `name` itself when it contains a '/',
+// else the first match on PATH. Empty when there is none.
+std::string FindExecutable(const std::string& name);
+
+// Runs any program (args[0] an absolute or relative path, see
+// FindExecutable) as ColmapRunner::Run runs colmap: no shell, stdin from
+// /dev/null, stdout and stderr appended to `log_path` after a "$ command"
+// header, one INFO line with the time. Throws colmap_lidar::Error naming
+// `display_name`, the command line, the exit status and the last
+// `num_log_tail_lines` lines of this run's log when it fails.
+void RunLoggedProcess(const std::vector<std::string>& args,
+                      const std::string& log_path, int num_log_tail_lines,
+                      const std::string& display_name);
+
 }  // namespace colmap_lidar

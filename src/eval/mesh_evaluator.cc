@@ -205,18 +205,21 @@ MeshEvaluation EvaluateMesh(
   return evaluation;
 }
 
-MeshEvaluation EvaluateMeshFiles(const std::string& estimate_path,
-                                 const std::string& reference_path,
-                                 const MeshEvaluationOptions& options) {
+MeshEvaluation EvaluateMeshFiles(
+    const std::string& estimate_path, const std::string& reference_path,
+    const MeshEvaluationOptions& options,
+    const Eigen::Affine3d& reference_from_estimate) {
   THROW_CHECK(options.Check(), "Invalid MeshEvaluation options");
   CheckFileExists(estimate_path, "Estimate mesh or point cloud");
   const PlyData estimate = ReadPly(estimate_path);
   THROW_CHECK(estimate.NumVertices() > 0,
               "Estimate " << estimate_path
                           << " has no vertices (and hence no faces)");
-  const std::vector<Eigen::Vector3d> vertices =
-      estimate.Positions(estimate_path);
+  std::vector<Eigen::Vector3d> vertices = estimate.Positions(estimate_path);
   CheckFinite(vertices, "Estimate " + estimate_path);
+  for (Eigen::Vector3d& vertex : vertices) {
+    vertex = reference_from_estimate * vertex;
+  }
   const std::vector<Eigen::Vector3i> triangles = TriangulatePolygons(
       estimate.faces, vertices.size(), estimate_path);
   if (!estimate.faces.empty() && triangles.empty()) {
@@ -230,6 +233,9 @@ MeshEvaluation EvaluateMeshFiles(const std::string& estimate_path,
   if (!options.observed_cloud_path.empty()) {
     observed = ReadPlyPositions(options.observed_cloud_path,
                                 "MeshEvaluation.observed_cloud_path");
+    for (Eigen::Vector3d& point : observed) {
+      point = reference_from_estimate * point;
+    }
   }
   LOG(INFO) << "Evaluating " << estimate_path << " (" << vertices.size()
             << " vertices, " << triangles.size() << " triangles) against "

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "src/eval/eval_stats.h"
 
@@ -106,9 +107,16 @@ MeshEvaluation EvaluateMesh(const std::vector<Eigen::Vector3d>& estimate_vertice
 
 // Reads the PLYs (estimate mesh or cloud, reference cloud and, if set,
 // options.observed_cloud_path) and evaluates. Errors name the file.
-MeshEvaluation EvaluateMeshFiles(const std::string& estimate_path,
-                                 const std::string& reference_path,
-                                 const MeshEvaluationOptions& options);
+// `reference_from_estimate` maps the estimate and the observed cloud (both
+// in the reconstruction's world frame) into the reference's frame before
+// the comparison: a reconstruction from noisy priors has a gauge (a rigid
+// transform, or a similarity without LIDAR) that no sensor observes, so the
+// shape is judged after the trajectory alignment of the pose evaluation, as
+// Tanks and Temples does.
+MeshEvaluation EvaluateMeshFiles(
+    const std::string& estimate_path, const std::string& reference_path,
+    const MeshEvaluationOptions& options,
+    const Eigen::Affine3d& reference_from_estimate = Eigen::Affine3d::Identity());
 
 std::string FormatMeshEvaluation(const MeshEvaluation& evaluation);
 void WriteMeshEvaluationJson(const std::string& path,

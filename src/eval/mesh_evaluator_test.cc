@@ -343,4 +343,50 @@ TEST(MeshEvaluator, FilesAndErrors) {
 }
 
 }  // namespace
+// An estimate in a frame rotated and shifted from the reference's (the
+// gauge of a reconstruction) scores only once carried back; the observed
+// cloud, in the estimate's frame too, goes along.
+TEST(MeshEvaluator, AlignmentCarriesEstimateAndObservedCloud) {
+  const std::string dir = testing::CreateTestDir();
+  Eigen::Affine3d estimate_from_reference = Eigen::Affine3d::Identity();
+  estimate_from_reference.linear() =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 0.1, 1.0).normalized())
+          .toRotationMatrix();
+  estimate_from_reference.translation() = Eigen::Vector3d(0.4, -0.2, 0.1);
+  std::vector<Eigen::Vector3d> corners = {
+      {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  for (Eigen::Vector3d& corner : corners) {
+    corner = estimate_from_reference * corner;
+  }
+  const std::string mesh_path = JoinPaths(dir, "mesh.ply");
+  const std::string reference_path = JoinPaths(dir, "reference.ply");
+  const std::string observed_path = JoinPaths(dir, "observed.ply");
+  WritePoints(mesh_path, corners, {{0, 1, 2, 3}});
+  const std::vector<Eigen::Vector3d> reference = SquareGrid(0, 0, 0, 50);
+  WritePoints(reference_path, reference);
+  // The observed cloud covers the left half of the square, in the
+  // estimate's frame.
+  std::vector<Eigen::Vector3d> observed;
+  for (const Eigen::Vector3d& point : reference) {
+    if (point.x() < 0.5) observed.push_back(estimate_from_reference * point);
+  }
+  WritePoints(observed_path, observed);
+
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.02, 0.05};
+  options.observed_cloud_path = observed_path;
+  options.observed_radius_m = 0.015;
+  const MeshEvaluation unaligned =
+      EvaluateMeshFiles(mesh_path, reference_path, options);
+  EXPECT_LT(unaligned.fscores[1], 0.5);
+  const MeshEvaluation aligned = EvaluateMeshFiles(
+      mesh_path, reference_path, options, estimate_from_reference.inverse());
+  EXPECT_GT(aligned.precisions[0], 0.99);
+  EXPECT_GT(aligned.recalls[0], 0.99);
+  // Only the observed half of the reference counts for recall.
+  EXPECT_NEAR(static_cast<double>(aligned.num_reference_points_kept) /
+                  reference.size(),
+              0.5, 0.03);
+}
+
 }  // namespace colmap_lidar

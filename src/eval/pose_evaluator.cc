@@ -321,4 +321,11 @@ void WritePoseEvaluationJson(const std::string& path,
       /*binary=*/false);
 }
 
+Eigen::Affine3d GroundTruthFromEstimate(const PoseEvaluation& evaluation) {
+  Eigen::Affine3d transform = Eigen::Affine3d::Identity();
+  transform.linear() = evaluation.scale * evaluation.rotation;
+  transform.translation() = evaluation.translation;
+  return transform;
+}
+
 }  // namespace colmap_lidar

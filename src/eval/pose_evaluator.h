@@ -24,6 +24,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "colmap_ext/scene/reconstruction.h"
 #include "src/dataset/poses.h"
@@ -89,6 +90,10 @@ struct PoseEvaluation {
 PoseEvaluation EvaluatePoses(const Reconstruction& estimate,
                              const std::vector<FramePose>& ground_truth,
                              const PoseEvaluationOptions& options);
+
+// The applied alignment as a transform x_gt = T * x_est (for carrying
+// other data of the estimate, e.g. a mesh, into the ground-truth frame).
+Eigen::Affine3d GroundTruthFromEstimate(const PoseEvaluation& evaluation);
 
 // Fixed-width summary table.
 std::string FormatPoseEvaluation(const PoseEvaluation& evaluation);

@@ -29,15 +29,30 @@ std::vector<Eigen::Vector3d> NeighbourPoints(const ViewLineSegment& lifted,
   return points;
 }
 
+// Whether two ring neighbours are across an occluding contour: their ranges
+// differ by more than max_gap or, when that is smaller, ratio times the
+// nearer range (the rule of LidarEdgeOptions::occlusion_range_gap / _ratio).
+struct RangeJump {
+  double max_gap = 0.3;
+  double ratio = 0.0;
+  bool operator()(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+    const double range_a = a.norm();
+    const double range_b = b.norm();
+    const double gap =
+        ratio > 0.0 ? std::min(max_gap, ratio * std::min(range_a, range_b))
+                    : max_gap;
+    return std::abs(range_a - range_b) > gap;
+  }
+};
+
 // The ring segment outer -> inner extended beyond `inner` to the plane
 // through the origin with normal `normal`, by at most one segment length
 // (the crossing lies between inner and its other neighbour). False when
 // outer is missing, across a range jump, or the extension is out of reach.
 bool ExtendToPlane(const std::vector<Eigen::Vector3d>& points, int inner,
                    int outer, const Eigen::Vector3d& normal,
-                   double max_range_jump, Eigen::Vector3d* crossing) {
-  if (outer < 0 || std::abs(points[outer].norm() - points[inner].norm()) >
-                       max_range_jump) {
+                   const RangeJump& is_jump, Eigen::Vector3d* crossing) {
+  if (outer < 0 || is_jump(points[outer], points[inner])) {
     return false;
   }
   const double side_inner = normal.dot(points[inner]);
@@ -61,7 +76,7 @@ bool ExtendToPlane(const std::vector<Eigen::Vector3d>& points, int inner,
 Eigen::Vector3d RefineAlongRing(int idx, const Eigen::Vector3d& normal,
                                 const ProjectedScan& projected,
                                 const RingNeighbors& neighbors,
-                                int max_steps, double max_range_jump) {
+                                int max_steps, const RangeJump& is_jump) {
   const std::vector<Eigen::Vector3d>& points = projected.points_in_cam;
   const double side = normal.dot(points[idx]);
   for (int step = 0; step < max_steps; ++step) {
@@ -86,7 +101,7 @@ Eigen::Vector3d RefineAlongRing(int idx, const Eigen::Vector3d& normal,
       if ((side_a > 0) != (side > 0) && step > 0) {
         continue;
       }
-      if (std::abs(points[a].norm() - points[b].norm()) > max_range_jump) {
+      if (is_jump(points[a], points[b])) {
         // An occluding contour: the edge is on the nearer surface. Extend
         // the nearer point's ring polyline (its next point away from the
         // jump) to the plane, by at most one step; else keep the point.
@@ -96,9 +111,7 @@ Eigen::Vector3d RefineAlongRing(int idx, const Eigen::Vector3d& normal,
             (a_nearer == (direction == &neighbors.next)) ? neighbors.prev
                                                          : neighbors.next;
         const int behind = away[near];
-        if (behind >= 0 &&
-            std::abs(points[behind].norm() - points[near].norm()) <
-                max_range_jump) {
+        if (behind >= 0 && !is_jump(points[behind], points[near])) {
           const double side_near = normal.dot(points[near]);
           const double side_behind = normal.dot(points[behind]);
           if (std::abs(side_near - side_behind) > 1e-9) {
@@ -124,7 +137,7 @@ Eigen::Vector3d RefineAlongRing(int idx, const Eigen::Vector3d& normal,
       for (const auto& [inner, outer] : {std::pair<int, int>(a, a_out),
                                          std::pair<int, int>(b, b_out)}) {
         Eigen::Vector3d crossing;
-        if (ExtendToPlane(points, inner, outer, normal, max_range_jump,
+        if (ExtendToPlane(points, inner, outer, normal, is_jump,
                           &crossing)) {
           sum += crossing;
           ++num_faces;
@@ -166,9 +179,10 @@ bool EdgeAssociationOptions::Check() const {
     LOG(ERROR) << "LineExtraction.max_refine_move_steps must be >= 0";
     return false;
   }
-  if (max_refine_steps < 1 || !(refine_max_range_jump > 0.0)) {
-    LOG(ERROR) << "LineExtraction.max_refine_steps must be >= 1 and "
-                  "refine_max_range_jump > 0";
+  if (max_refine_steps < 1 || !(refine_max_range_jump > 0.0) ||
+      !(refine_range_jump_ratio >= 0.0)) {
+    LOG(ERROR) << "LineExtraction.max_refine_steps must be >= 1, "
+                  "refine_max_range_jump > 0 and refine_range_jump_ratio >= 0";
     return false;
   }
   if (!(max_endpoint_range > 0.0)) {
@@ -214,12 +228,15 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
   if (options.refine_along_rings && ring_neighbors != nullptr &&
       !ring_neighbors->empty()) {
     const std::vector<Eigen::Vector3d>& points = projected.points_in_cam;
+    RangeJump is_jump;
+    is_jump.max_gap = options.refine_max_range_jump;
+    is_jump.ratio = options.refine_range_jump_ratio;
     size_t num_kept = 0;
     for (size_t i = 0; i < candidate_idxs.size(); ++i) {
       const int idx = candidate_idxs[i];
       const Eigen::Vector3d refined = RefineAlongRing(
           idx, plane_normal, projected, *ring_neighbors,
-          options.max_refine_steps, options.refine_max_range_jump);
+          options.max_refine_steps, is_jump);
       // A crease's edge point is within about one ring step of where its
       // ring crosses the crease; one moved farther was detected at another
       // (nearby) crease and would carry that crease's depth onto this line.

@@ -147,6 +147,13 @@ double RegularStepFraction(const std::vector<Ring>& rings) {
 
 }  // namespace
 
+double OcclusionRangeGap(const LidarEdgeOptions& options, double range) {
+  return options.occlusion_range_ratio > 0.0
+             ? std::min(options.occlusion_range_gap,
+                        options.occlusion_range_ratio * range)
+             : options.occlusion_range_gap;
+}
+
 bool LidarEdgeOptions::Check() const {
   if (method != "auto" && method != "ring" && method != "pca") {
     LOG(ERROR) << "LineExtraction.edge_method must be auto, ring or pca, got "
@@ -176,6 +183,10 @@ bool LidarEdgeOptions::Check() const {
   if (!(occlusion_range_gap > 0.0) || !(parallel_beam_ratio > 0.0)) {
     LOG(ERROR) << "LineExtraction.edge_occlusion_range_gap and "
                   "edge_parallel_beam_ratio must be > 0";
+    return false;
+  }
+  if (!(occlusion_range_ratio >= 0.0)) {
+    LOG(ERROR) << "LineExtraction.edge_occlusion_range_ratio must be >= 0";
     return false;
   }
   if (!(max_elevation_step_deg > 0.0)) {
@@ -266,9 +277,11 @@ std::vector<int> SelectRingEdges(const std::vector<double>& ranges,
       continue;
     }
     const double difference = ranges[i] - ranges[i + 1];
-    if (difference > options.occlusion_range_gap) {
+    const double gap = OcclusionRangeGap(
+        options, std::min(ranges[i], ranges[i + 1]));
+    if (difference > gap) {
       exclude(i - k, i);
-    } else if (-difference > options.occlusion_range_gap) {
+    } else if (-difference > gap) {
       exclude(i + 1, i + 1 + k);
     }
   }

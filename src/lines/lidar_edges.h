@@ -63,6 +63,14 @@ struct LidarEdgeOptions {
   // Range jump between azimuth neighbours that marks an occlusion boundary,
   // metres (LeGO-LOAM: 0.3).
   double occlusion_range_gap = 0.3;
+  // ... or this fraction of the nearer range, when that is smaller (0:
+  // off). LeGO-LOAM's fixed 0.3 m is a long-range rule: at 5 m a 16 cm
+  // window recess is an occlusion too, and the recessed points next to it
+  // (on the glass, beside the lip) are edge points of no crease. The same
+  // fraction as parallel_beam_ratio: a range step that large between two
+  // azimuth neighbours is either a surface nearly parallel to the beam (a
+  // step on both sides, excluded below) or an occluding contour.
+  double occlusion_range_ratio = 0.02;
   // A point whose range differs from both neighbours by more than this
   // fraction of its range is on a surface parallel to the beam (LeGO-LOAM:
   // 0.02).
@@ -98,6 +106,10 @@ std::vector<double> ComputeRingSmoothness(const std::vector<double>& ranges,
                                           int num_neighbors,
                                           bool edges_at_gaps = false,
                                           const std::vector<bool>& seams = {});
+
+// The range jump between azimuth neighbours that marks an occlusion
+// boundary at `range` (the nearer of the two), metres.
+double OcclusionRangeGap(const LidarEdgeOptions& options, double range);
 
 // Positions (into `ranges`) of the edge points of one ring: the occlusion /
 // parallel-beam exclusion and the per-sector selection described above.

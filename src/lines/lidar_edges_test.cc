@@ -116,6 +116,33 @@ TEST(LidarEdges, FarSideOfAnOcclusionIsExcluded) {
   EXPECT_NE(std::find(edges.begin(), edges.end(), 29), edges.end());
 }
 
+TEST(LidarEdges, FarSideOfAShallowRecessIsExcludedAtShortRange) {
+  // A wall seen obliquely (range growing by 3 cm a point) up to its lip at
+  // point 29, then the glass of a 16 cm deep window recess at 5.86 m. The
+  // recessed points next to the lip score higher than the lip itself.
+  std::vector<double> ranges(60, 5.86);
+  for (int i = 0; i < 30; ++i) {
+    ranges[i] = 5.7 - 0.03 * (29 - i);
+  }
+  LidarEdgeOptions options;
+  options.num_sectors = 1;
+  EXPECT_NEAR(OcclusionRangeGap(options, 5.7), 0.114, 1e-9);
+  EXPECT_NEAR(OcclusionRangeGap(options, 50.0), 0.3, 1e-9);
+  const std::vector<int> edges =
+      SelectRingEdges(ranges, std::vector<bool>(59, true), options);
+  ASSERT_FALSE(edges.empty());
+  for (const int idx : edges) {
+    EXPECT_LT(idx, 30) << "recessed point selected";
+  }
+  // With LeGO-LOAM's fixed 0.3 m alone the step is no occlusion and the
+  // recessed point next to the lip is taken.
+  options.occlusion_range_ratio = 0.0;
+  const std::vector<int> fixed_gap_edges =
+      SelectRingEdges(ranges, std::vector<bool>(59, true), options);
+  EXPECT_NE(std::find(fixed_gap_edges.begin(), fixed_gap_edges.end(), 30),
+            fixed_gap_edges.end());
+}
+
 TEST(LidarEdges, ScanEdgesLieOnBoxEdges) {
   SyntheticViewOptions view_options;
   view_options.boxes = DefaultSyntheticBoxes();
@@ -211,6 +238,9 @@ TEST(LidarEdges, OptionsCheck) {
   EXPECT_FALSE(options.Check());
   options = LidarEdgeOptions();
   options.num_sectors = 0;
+  EXPECT_FALSE(options.Check());
+  options = LidarEdgeOptions();
+  options.occlusion_range_ratio = -0.01;
   EXPECT_FALSE(options.Check());
 }
 

@@ -64,6 +64,12 @@ std::string LineAssociationSummary::Format() const {
   out << "Line association: " << num_views << " views, "
       << pairwise.num_segments << " segments, " << pairwise.num_candidate_views
       << " (segment, candidate view) tests\n";
+  if (pairwise.num_overlapping_pairs > 0) {
+    out << "  Pair registration: " << pairwise.num_registered_pairs << " of "
+        << pairwise.num_overlapping_pairs << " overlapping view pairs, "
+        << pairwise.num_consistent_pairs << " consistent, in "
+        << pairwise.registration_seconds << " s\n";
+  }
   out << "  Pairwise matches (Algorithm 1): " << pairwise.num_matches << " ("
       << pairwise.num_mutual_matches << " mutual, "
       << pairwise.num_directed_matches << " directed) in " << pairwise.seconds
@@ -96,7 +102,7 @@ LineAssociation AssociateLines(const std::vector<MatchingView>& views,
 
   // The observation graph: every segment is a node.
   const auto clear_start = std::chrono::steady_clock::now();
-  std::vector<LineObservation> observations;
+  std::vector<TrackObservation> observations;
   std::vector<int> view_ids;
   std::vector<int> first_observation(views.size() + 1, 0);
   for (size_t v = 0; v < views.size(); ++v) {

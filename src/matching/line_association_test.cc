@@ -38,6 +38,7 @@ TEST(LineAssociation, NoisyPriorsWithUncertaintyTolerances) {
   LineMatchingOptions options = SyntheticOptions();
   options.pose_sigma_t_m = 0.5;
   options.pose_sigma_r_deg = 5.0;
+  options.refine_relative_poses = false;
   const LineAssociation association =
       AssociateLines(MakeSyntheticViews(scene, noisy), options);
   const TrackQuality quality = EvaluateTracks(scene, association.tracks);
@@ -49,14 +50,41 @@ TEST(LineAssociation, NoisyPriorsWithUncertaintyTolerances) {
   EXPECT_GE(quality.mean_track_length, 2.5);
 }
 
+TEST(LineAssociation, NoisyPriorsWithPairRegistration) {
+  // The views registered on their segments (relative_line_pose.h, then
+  // pose_graph.h), Algorithm 1 with the exact-pose thresholds.
+  const SyntheticLineScene scene = MakeSyntheticLineScene({});
+  const std::vector<Rigid3d> noisy =
+      PerturbPoses(scene.cam_from_world, 0.5, 5.0, /*seed=*/2);
+  LineMatchingOptions options = SyntheticOptions();
+  options.pose_sigma_t_m = 0.5;
+  options.pose_sigma_r_deg = 5.0;
+  ASSERT_TRUE(options.RegistersPairs());
+  const LineAssociation association =
+      AssociateLines(MakeSyntheticViews(scene, noisy), options);
+  const TrackQuality quality = EvaluateTracks(scene, association.tracks);
+  std::cout << association.summary.Format() << std::endl;
+  std::cout << "precision " << quality.precision << ", mean length "
+            << quality.mean_track_length << ", recall " << quality.recall
+            << std::endl;
+  EXPECT_GT(association.summary.pairwise.num_registered_pairs, 0u);
+  EXPECT_GT(association.summary.pairwise.num_consistent_pairs,
+            association.summary.pairwise.num_registered_pairs / 2);
+  EXPECT_GE(quality.precision, 0.98);
+  EXPECT_GE(quality.mean_track_length, 5.0);
+  EXPECT_GE(quality.recall, 0.8);
+}
+
 TEST(LineAssociation, ClearRepairsWhatConnectedComponentsDrop) {
-  // Geometry only (no descriptors) with noisy priors: the window lips and
+  // Geometry only (no descriptors) with noisy priors and the thresholds
+  // grown by the pose uncertainty (no registration): the window lips and
   // backs, 15 cm apart, get confused and pairwise matches conflict.
   const SyntheticLineScene scene = MakeSyntheticLineScene({});
   const std::vector<Rigid3d> noisy =
       PerturbPoses(scene.cam_from_world, 0.5, 5.0, /*seed=*/2);
   LineMatchingOptions options;
   options.t_LBD = 256.0;
+  options.refine_relative_poses = false;
   options.pose_sigma_t_m = 0.5;
   options.pose_sigma_r_deg = 5.0;
   const std::vector<MatchingView> views = MakeSyntheticViews(scene, noisy);

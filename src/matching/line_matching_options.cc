@@ -42,9 +42,23 @@ bool LineMatchingOptions::Check() const {
                << min_overlap;
     ok = false;
   }
+  if (!(max_rival_score_ratio > 0.0 && max_rival_score_ratio <= 1.0)) {
+    LOG(ERROR) << "LineMatching.max_rival_score_ratio must be in (0, 1], got "
+               << max_rival_score_ratio;
+    ok = false;
+  }
   ok &= CheckNonNegative(pose_sigma_t_m, "pose_sigma_t_m");
   ok &= CheckNonNegative(pose_sigma_r_deg, "pose_sigma_r_deg");
   ok &= CheckNonNegative(pose_uncertainty_scale, "pose_uncertainty_scale");
+  if (relative_pose_min_inliers < 2) {
+    LOG(ERROR) << "LineMatching.relative_pose_min_inliers must be >= 2, got "
+               << relative_pose_min_inliers;
+    ok = false;
+  }
+  ok &= CheckPositive(relative_pose_inlier_angle_deg,
+                      "relative_pose_inlier_angle_deg");
+  ok &= CheckPositive(relative_pose_inlier_distance_m,
+                      "relative_pose_inlier_distance_m");
   if (num_visibility_samples < 2) {
     LOG(ERROR) << "LineMatching.num_visibility_samples must be >= 2, got "
                << num_visibility_samples;

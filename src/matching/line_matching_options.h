@@ -30,6 +30,12 @@ struct LineMatchingOptions {
   // quad scene it separates collinear edges (the tops of a row of windows),
   // which the four line-based criteria cannot: track precision 85% -> 96%.
   double min_overlap = 0.2;
+  // Optional rival test (not in the paper): the best match in a view is
+  // dropped when a second segment lying side by side with it scores less
+  // than best / this, i.e. best >= ratio * second, (0, 1]; 1 disables it.
+  // Edges a few centimetres apart (window lips, frames and wall edges)
+  // otherwise go to whichever the noise favours.
+  double max_rival_score_ratio = 0.8;
 
   // ---- Pose uncertainty. The thresholds above hold for exact poses; with
   // priors whose centres are off by sigma_t per axis and rotations by
@@ -41,6 +47,25 @@ struct LineMatchingOptions {
   double pose_sigma_t_m = 0.0;
   double pose_sigma_r_deg = 0.0;
   double pose_uncertainty_scale = 2.0;
+
+  // ---- Registration on the segments (relative_line_pose.h, pose_graph.h).
+  // With a pose uncertainty (pose_sigma_* > 0), every pair of views the
+  // priors make overlap is first registered on its 3D segments (the
+  // uncertainty-grown thresholds above only gate the candidate
+  // correspondences), a robust pose graph over the priors and the
+  // registrations corrects the poses, and Algorithm 1 runs on the corrected
+  // poses with the exact-pose thresholds between views that consistent
+  // registrations connect (the grown thresholds between the others). Off:
+  // Algorithm 1 with the grown thresholds under the prior poses.
+  bool refine_relative_poses = true;
+  // Inlier segments a registration needs (and segments of one view the
+  // prior must place in the other to try), >= 2.
+  int relative_pose_min_inliers = 6;
+  // A correspondence is an inlier when (angle / this)^2 + (mean endpoint to
+  // line distance / relative_pose_inlier_distance_m)^2 < 1, degrees, > 0.
+  double relative_pose_inlier_angle_deg = 2.0;
+  // Metres, > 0.
+  double relative_pose_inlier_distance_m = 0.1;
 
   // ---- Candidate views (the "field of view" test of Algorithm 1).
   // Points sampled along a 3D segment for the visibility test, >= 2.
@@ -78,6 +103,11 @@ struct LineMatchingOptions {
   int min_track_length = 2;
 
   bool Check() const;
+  // refine_relative_poses and a non-zero pose uncertainty.
+  bool RegistersPairs() const {
+    return refine_relative_poses &&
+           (pose_sigma_t_m > 0.0 || pose_sigma_r_deg > 0.0);
+  }
 };
 
 // The thresholds of Algorithm 1 for a segment at `depth_m` in the candidate

@@ -46,7 +46,7 @@ Eigen::Matrix<double, 6, 1> FitPluckerLine(
 
 std::vector<LineTrackRecord> BuildLineTracks(
     const std::vector<MatchingView>& views,
-    const std::vector<LineObservation>& observations,
+    const std::vector<TrackObservation>& observations,
     const std::vector<int>& cluster_ids, const int min_track_length) {
   THROW_CHECK(observations.size() == cluster_ids.size(),
               "BuildLineTracks: " << observations.size()

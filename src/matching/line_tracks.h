@@ -16,8 +16,10 @@
 
 namespace colmap_lidar {
 
-// Observation (view index, segment index).
-using LineObservation = std::pair<int, int>;
+// An observation of a track being built: (view index, segment index). Not
+// the bundle adjustment's LineObservation (src/optim/line_track.h), which
+// carries the measurement.
+using TrackObservation = std::pair<int, int>;
 
 // Fits the line to points (>= 2, not all equal; else throws). Returns the
 // Plucker vector (unit d, m = centroid x d); start/end (optional) receive
@@ -32,7 +34,7 @@ Eigen::Matrix<double, 6, 1> FitPluckerLine(
 // when a cluster holds two observations of one view.
 std::vector<LineTrackRecord> BuildLineTracks(
     const std::vector<MatchingView>& views,
-    const std::vector<LineObservation>& observations,
+    const std::vector<TrackObservation>& observations,
     const std::vector<int>& cluster_ids, int min_track_length);
 
 }  // namespace colmap_lidar

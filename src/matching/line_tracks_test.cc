@@ -44,7 +44,7 @@ TEST(LineTracks, BuildTracksFromClusters) {
       MakeMatchingView(3, "b", camera,
                        Rigid3d(Eigen::Quaterniond::Identity(), {-1, 0, 0}),
                        {a})};
-  const std::vector<LineObservation> observations = {{0, 0}, {0, 1}, {1, 0}};
+  const std::vector<TrackObservation> observations = {{0, 0}, {0, 1}, {1, 0}};
   const std::vector<LineTrackRecord> tracks =
       BuildLineTracks(views, observations, {5, 2, 5}, 2);
   ASSERT_EQ(tracks.size(), 1u);

@@ -4,6 +4,14 @@
 // where it is a candidate (candidate_views.h) and matched to at most one
 // segment there (segment_similarity.h). Matches found from either side are
 // merged into undirected pairs.
+//
+// With uncertain poses (LineMatchingOptions::RegistersPairs), the poses are
+// corrected first: every pair of views the priors make overlap is
+// registered on its 3D segments (relative_line_pose.h), a robust pose graph
+// keeps the consistent registrations (pose_graph.h), and Algorithm 1 runs
+// on its poses with the exact-pose thresholds between views of one
+// component of the consistent registrations (with the uncertainty-grown
+// ones between components, e.g. views with too few segments to register).
 #pragma once
 
 #include <cstddef>
@@ -35,6 +43,14 @@ struct PairwiseMatchingStats {
   size_t num_directed_matches = 0;
   size_t num_matches = 0;
   size_t num_mutual_matches = 0;
+  // With registration (LineMatchingOptions::RegistersPairs): view pairs the
+  // prior makes overlap, those registered on their segments, and the time
+  // it took (included in seconds).
+  size_t num_overlapping_pairs = 0;
+  size_t num_registered_pairs = 0;
+  // Registrations the pose graph kept (pose_graph.h).
+  size_t num_consistent_pairs = 0;
+  double registration_seconds = 0.0;
   double seconds = 0.0;
 };
 

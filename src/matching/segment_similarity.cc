@@ -86,6 +86,17 @@ double MatchingScore(const SegmentComparison& comparison,
          comparison.descriptor_distance / thresholds.LBD;
 }
 
+double SideBySideOverlap(const MatchingSegment& a, const MatchingSegment& b) {
+  const double length_a = (a.end2D - a.start2D).norm();
+  const double length_b = (b.end2D - b.start2D).norm();
+  const double t1 = a.direction2D.dot(b.start2D - a.start2D);
+  const double t2 = a.direction2D.dot(b.end2D - a.start2D);
+  const double intersection =
+      std::min(length_a, std::max(t1, t2)) - std::max(0.0, std::min(t1, t2));
+  const double shorter = std::min(length_a, length_b);
+  return shorter > 0.0 ? std::clamp(intersection / shorter, 0.0, 1.0) : 0.0;
+}
+
 ViewMatch FindBestMatchInView(const QuerySegment& query,
                               const SegmentInView& query_in_view,
                               const MatchingView& view,
@@ -93,6 +104,8 @@ ViewMatch FindBestMatchInView(const QuerySegment& query,
                               const LineMatchingOptions& options) {
   ViewMatch best;
   best.score = std::numeric_limits<double>::infinity();
+  ViewMatch second;
+  second.score = std::numeric_limits<double>::infinity();
   const int num_buckets = static_cast<int>(view.angle_buckets.size());
   if (num_buckets == 0) return ViewMatch();
   const Eigen::Vector2d delta = query_in_view.end2D - query_in_view.start2D;
@@ -115,12 +128,25 @@ ViewMatch FindBestMatchInView(const QuerySegment& query,
       }
       const double score = MatchingScore(comparison, thresholds);
       if (score < best.score) {
+        second = best;
         best.score = score;
         best.segment_idx = idx;
+      } else if (score < second.score) {
+        second.score = score;
+        second.segment_idx = idx;
       }
     }
   }
   if (best.segment_idx < 0) return ViewMatch();
+  // Two parallel edges side by side (a window lip and the wall edge a few
+  // centimetres away) that score alike: no way to tell which one l is.
+  if (options.max_rival_score_ratio < 1.0 && second.segment_idx >= 0 &&
+      best.score >= options.max_rival_score_ratio * second.score &&
+      SideBySideOverlap(view.segments[best.segment_idx],
+                        view.segments[second.segment_idx]) >=
+          kMinRivalOverlap) {
+    return ViewMatch();
+  }
   return best;
 }
 

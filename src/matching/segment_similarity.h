@@ -69,9 +69,18 @@ struct ViewMatch {
   double score = 0.0;
 };
 
+// The overlap of b with a along a's 2D line, as a fraction of the shorter
+// of the two, [0, 1]: 1 for two segments side by side.
+double SideBySideOverlap(const MatchingSegment& a, const MatchingSegment& b);
+
 // The inner loop of Algorithm 1 for one candidate view: only segments whose
 // 2D orientation is within the angle threshold are scored (orientation
-// buckets of the view).
+// buckets of the view). With options.max_rival_score_ratio < 1, the match
+// is dropped when the runner-up lies side by side with it
+// (SideBySideOverlap >= kMinRivalOverlap) and scores within that ratio:
+// two parallel edges a few centimetres apart that the criteria cannot tell
+// apart.
+constexpr double kMinRivalOverlap = 0.5;
 ViewMatch FindBestMatchInView(const QuerySegment& query,
                               const SegmentInView& query_in_view,
                               const MatchingView& view,

@@ -256,8 +256,10 @@ DelaunayMeshingSummary MeshDenseWorkspace(
     const std::string& workspace_path, const std::string& lines_model_path,
     const std::string& output_path) {
   const StageTimer timer;
-  const MeshingInput input =
-      ReadMeshingInput(input_options, workspace_path, lines_model_path);
+  MeshingInputOptions threaded_input_options = input_options;
+  threaded_input_options.num_threads = options.num_threads;
+  const MeshingInput input = ReadMeshingInput(
+      threaded_input_options, workspace_path, lines_model_path);
   DelaunayMeshingSummary summary;
   const TriangleMesh mesh = DelaunayMeshing(options, input, &summary);
   WriteMeshPly(output_path, mesh);

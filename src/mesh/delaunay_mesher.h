@@ -39,7 +39,7 @@ struct DelaunayMeshingOptions {
   // metres. max_proj_dist_px = 0 inserts every visual point.
   double max_proj_dist_px = 2.0;
   double max_depth_dist = 0.05;
-  double min_lidar_vertex_distance_m = 0.0;
+  double min_lidar_vertex_distance_m = 0.05;
   // Free-space weight falloff sigma relative to the lower-quartile edge
   // length, and where the inside weight goes behind a point (units of sigma).
   double distance_sigma_factor = 1.0;

@@ -64,13 +64,24 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
   triangulation->vertex_sources.clear();
   triangulation->point_to_vertex.assign(input.NumPoints(), kNoVertex);
 
-  // Line samples first, then the rest; each group in spatial order so that
-  // the previous vertex is a good location hint.
+  // Line samples first, then visual points, then LIDAR voxels (so that a
+  // voxel finds the visual vertices it may merge into); each group in
+  // spatial order so that the previous vertex is a good location hint.
   std::vector<size_t> line_points;
-  std::vector<size_t> other_points;
+  std::vector<size_t> visual_points;
+  std::vector<size_t> lidar_points;
   for (uint32_t i = 0; i < input.NumPoints(); ++i) {
-    (input.sources[i] == MeshingPointSource::kLine ? line_points : other_points)
-        .push_back(i);
+    switch (input.sources[i]) {
+      case MeshingPointSource::kLine:
+        line_points.push_back(i);
+        break;
+      case MeshingPointSource::kVisual:
+        visual_points.push_back(i);
+        break;
+      case MeshingPointSource::kLidar:
+        lidar_points.push_back(i);
+        break;
+    }
   }
   {
     std::vector<MeshPoint> points;
@@ -81,8 +92,10 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
     using Traits = CGAL::Spatial_sort_traits_adapter_3<
         MeshKernel, CGAL::Pointer_property_map<MeshPoint>::type>;
     const Traits traits(CGAL::make_property_map(points));
-    CGAL::spatial_sort(line_points.begin(), line_points.end(), traits);
-    CGAL::spatial_sort(other_points.begin(), other_points.end(), traits);
+    for (std::vector<size_t>* group :
+         {&line_points, &visual_points, &lidar_points}) {
+      CGAL::spatial_sort(group->begin(), group->end(), traits);
+    }
   }
 
   const double sq_lidar_dist = options.min_lidar_vertex_distance_m *
@@ -103,10 +116,16 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
     const MeshCellHandle cell =
         delaunay.locate(point, locate_type, li, lj, hint);
     if (may_merge && !delaunay.is_infinite(cell)) {
-      // The nearest finite vertex of the enclosing cell.
+      // The nearest finite vertex of the enclosing cell (for a LIDAR voxel:
+      // the nearest visual or line vertex).
       int nearest = -1;
       double nearest_sq_dist = std::numeric_limits<double>::max();
       for (int k = 0; k < 4; ++k) {
+        if (source == MeshingPointSource::kLidar &&
+            triangulation->vertex_sources[cell->vertex(k)->info()] ==
+                MeshingPointSource::kLidar) {
+          continue;
+        }
         const double sq_dist =
             (ToEigen(cell->vertex(k)->point()) - position).squaredNorm();
         if (sq_dist < nearest_sq_dist) {
@@ -114,12 +133,14 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
           nearest = k;
         }
       }
-      const MeshVertexHandle vertex = cell->vertex(nearest);
+      const MeshVertexHandle vertex =
+          nearest < 0 ? MeshVertexHandle() : cell->vertex(nearest);
       const bool merge =
-          source == MeshingPointSource::kLidar
-              ? nearest_sq_dist <= sq_lidar_dist
-              : IsCloseInImages(options, input, point_idx,
-                                ToEigen(vertex->point()));
+          nearest >= 0 &&
+          (source == MeshingPointSource::kLidar
+               ? nearest_sq_dist <= sq_lidar_dist
+               : IsCloseInImages(options, input, point_idx,
+                                 ToEigen(vertex->point())));
       if (merge) {
         triangulation->point_to_vertex[point_idx] = vertex->info();
         hint = cell;
@@ -140,8 +161,10 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
     triangulation->point_to_vertex[point_idx] = vertex->info();
     hint = vertex->cell();
   };
-  for (const size_t point_idx : line_points) insert(point_idx);
-  for (const size_t point_idx : other_points) insert(point_idx);
+  for (const std::vector<size_t>* group :
+       {&line_points, &visual_points, &lidar_points}) {
+    for (const size_t point_idx : *group) insert(point_idx);
+  }
 
   THROW_CHECK(delaunay.dimension() == 3,
               "The " << input.NumPoints()

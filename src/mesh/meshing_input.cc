@@ -89,6 +89,7 @@ bool MeshingInputOptions::Check() const {
     LOG(ERROR) << "MeshingInput.line_sample_step_m must be > 0";
     return false;
   }
+  if (!lidar_denoising.Check()) return false;
   return true;
 }
 
@@ -320,7 +321,7 @@ MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
     CheckFileExists(vis_path, "LIDAR voxel visibility");
     CheckFileExists(origins_path, "LIDAR origins");
     const PlyData ply = ReadPly(lidar_ply_path);
-    const std::vector<Eigen::Vector3d> positions = ply.Positions(lidar_ply_path);
+    std::vector<Eigen::Vector3d> positions = ply.Positions(lidar_ply_path);
     std::vector<uint32_t> counts(positions.size(), 1);
     if (const PlyColumn* column = ply.FindColumn("count")) {
       for (size_t i = 0; i < counts.size(); ++i) {
@@ -331,6 +332,8 @@ MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
     } else {
       LOG(WARNING) << lidar_ply_path << " has no 'count'; using 1 per voxel";
     }
+    DenoiseLidarVoxels(options.lidar_denoising, counts, options.num_threads,
+                       &positions);
     const FusedVisibility frames = ReadFusedVis(vis_path, positions.size());
     CheckFusedVisIndices(frames, model.images.size(), vis_path);
     std::vector<Eigen::Vector3d> origins(model.images.size(),

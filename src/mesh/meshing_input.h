@@ -23,6 +23,7 @@
 
 #include "colmap_ext/mvs/fused_vis.h"
 #include "colmap_ext/scene/reconstruction.h"
+#include "src/mesh/lidar_denoising.h"
 
 namespace colmap_lidar {
 
@@ -80,6 +81,12 @@ struct MeshingInputOptions {
   // Spacing of the samples along a 3D segment, metres (> 0); both end points
   // are always sampled.
   double line_sample_step_m = 0.02;
+  // LIDAR voxels are projected onto their local plane when it is planar
+  // (lidar_denoising.h); radius 0 keeps the centroids as fused.
+  LidarDenoisingOptions lidar_denoising;
+  // Threads of the denoising; <= 0 uses all cores (MeshDenseWorkspace sets
+  // it to DelaunayMeshingOptions::num_threads).
+  int num_threads = -1;
 
   bool Check() const;
 };

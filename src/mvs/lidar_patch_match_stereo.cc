@@ -306,11 +306,30 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
       needed.push_back(job.ref_idx);
       cache.Retain(needed);
       const MvsView& ref = cache.View(job.ref_idx);
+      // Only sources with photometric maps can confirm a depth (e.g. when
+      // the references are a subset of the images and a source is none).
       std::vector<const MvsView*> srcs;
       std::vector<const PlaneMap*> src_maps;
       for (int s : job.srcs) {
-        srcs.push_back(&cache.View(s));
-        src_maps.push_back(cache.PhotometricMap(s));
+        const PlaneMap* src_map = cache.PhotometricMap(s);
+        if (src_map != nullptr) {
+          srcs.push_back(&cache.View(s));
+          src_maps.push_back(src_map);
+        }
+      }
+      if (static_cast<int>(srcs.size()) < options.filter_min_num_consistent) {
+        LOG(WARNING) << image.name << ": " << srcs.size() << " of "
+                     << job.srcs.size()
+                     << " source views have photometric maps, fewer than "
+                        "filter_min_num_consistent ("
+                     << options.filter_min_num_consistent
+                     << "): its geometric map is empty";
+      }
+      if (srcs.empty()) {
+        WriteMaps(workspace, image.name, DenseMapType::kGeometric,
+                  PlaneMap(ref.width, ref.height));
+        ++summary.num_geometric_computed;
+        continue;
       }
       const PlaneMap* ref_map = cache.PhotometricMap(job.ref_idx);
       THROW_CHECK(ref_map != nullptr,

@@ -1,8 +1,6 @@
 // The line association step of lidar_mapper (paper section III-C) behind a
-// narrow interface: src/matching/line_tracks.h and src/optim/line_track.h
-// both declare a colmap_lidar::LineObservation (an index pair there, a
-// bundle adjustment observation here), so no translation unit may include
-// both; this one includes the matching side only.
+// narrow interface: the mapper sees a summary, not the association's
+// internals (src/matching/line_association.h).
 #pragma once
 
 #include <string>

@@ -4,8 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <numeric>
 #include <sstream>
 #include <unordered_map>
+
+#include <sys/resource.h>
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/database/line_segments_table.h"
@@ -26,6 +29,47 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                        start)
       .count();
+}
+
+// User + system time of this process and of its finished children (the
+// colmap runs), seconds.
+double CpuSeconds() {
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec;
+  };
+  rusage self{};
+  rusage children{};
+  getrusage(RUSAGE_SELF, &self);
+  getrusage(RUSAGE_CHILDREN, &children);
+  return seconds(self.ru_utime) + seconds(self.ru_stime) +
+         seconds(children.ru_utime) + seconds(children.ru_stime);
+}
+
+// How far a pose lies from its prior: 0 inside the 99.9 % region of the
+// prior noise, 1 outside it, 2 outside the 1 - 1e-6 region. Centre: chi-square
+// with 3 degrees of freedom (16.27, 30.66); rotation: the angle in RMS angles
+// as a Gaussian (3.29, 4.89), a test that also holds (more loosely) for a
+// Gaussian rotation vector.
+int PriorOutlierLevel(const Rigid3d& cam_from_world, const Rigid3d& prior,
+                      double position_sigma_m, double rotation_rms_deg) {
+  const double centre_error = (cam_from_world.Inverse().translation -
+                               prior.Inverse().translation)
+                                  .norm() /
+                              position_sigma_m;
+  const double angle = cam_from_world.rotation.normalized().angularDistance(
+                           prior.rotation.normalized()) *
+                       180.0 / M_PI / rotation_rms_deg;
+  const double chi_square = centre_error * centre_error;
+  if (chi_square > 30.66 || angle > 4.89) {
+    return 2;
+  }
+  return chi_square > 16.27 || angle > 3.29 ? 1 : 0;
+}
+
+// Per-axis rotation-vector sigma of priors whose RMS angle is
+// rms_angle_deg (isotropic error: the squared angle splits over 3 axes).
+double PerAxisRotationSigmaDeg(double rms_angle_deg) {
+  return rms_angle_deg / std::sqrt(3.0);
 }
 
 std::string ThreadsArg(int num_threads) {
@@ -71,20 +115,15 @@ Reconstruction PosesOnly(const Reconstruction& model) {
   return poses;
 }
 
-// The model with most images among the numbered sub-folders colmap mapper
-// writes; empty model when there is none.
-Reconstruction LargestMapperModel(const std::string& mapper_path) {
-  Reconstruction best;
+// The models colmap mapper writes (numbered sub-folders).
+std::vector<Reconstruction> ReadMapperModels(const std::string& mapper_path) {
+  std::vector<Reconstruction> models;
   for (const auto& entry : std::filesystem::directory_iterator(mapper_path)) {
-    if (!entry.is_directory() || !ExistsModel(entry.path().string())) {
-      continue;
-    }
-    Reconstruction model = ReadReconstruction(entry.path().string());
-    if (model.images.size() > best.images.size()) {
-      best = std::move(model);
+    if (entry.is_directory() && ExistsModel(entry.path().string())) {
+      models.push_back(ReadReconstruction(entry.path().string()));
     }
   }
-  return best;
+  return models;
 }
 
 double RotationAngleDeg(const Eigen::Quaterniond& a,
@@ -105,8 +144,18 @@ bool LidarMapperOptions::Check() const {
   LIDAR_MAPPER_CHECK(exhaustive_max_num_images >= 0,
                      exhaustive_max_num_images);
   LIDAR_MAPPER_CHECK(sequential_overlap > 0, sequential_overlap);
-  LIDAR_MAPPER_CHECK(init_method == "mapper" || init_method == "priors",
+  LIDAR_MAPPER_CHECK(init_method == "mapper" || init_method == "priors" ||
+                         init_method == "model",
                      init_method);
+  LIDAR_MAPPER_CHECK(init_method != "model" || !init_model_path.empty(),
+                     init_model_path);
+  LIDAR_MAPPER_CHECK(init_min_num_inliers >= 3, init_min_num_inliers);
+  LIDAR_MAPPER_CHECK(init_min_inlier_ratio >= 0.0 &&
+                         init_min_inlier_ratio <= 1.0,
+                     init_min_inlier_ratio);
+  LIDAR_MAPPER_CHECK(max_prior_outlier_ratio >= 0.0 &&
+                         max_prior_outlier_ratio <= 1.0,
+                     max_prior_outlier_ratio);
   LIDAR_MAPPER_CHECK(mapper_abs_pose_min_num_inliers > 0,
                      mapper_abs_pose_min_num_inliers);
   LIDAR_MAPPER_CHECK(mapper_abs_pose_min_inlier_ratio >= 0.0 &&
@@ -133,16 +182,22 @@ bool LidarMapperOptions::Check() const {
 
 std::string LidarMapperSummary::Format() const {
   std::ostringstream out;
-  out << "lidar_mapper: " << num_images << " images (" << num_initial_images
-      << " initialised";
+  out << "lidar_mapper: " << num_images << " images (init " << init_used
+      << ", " << num_initial_images << " initialised";
   if (prior_alignment_rms_m >= 0.0) {
     out << ", sim3 to priors rms " << prior_alignment_rms_m << " m";
   }
-  out << "), " << iterations.size() << " iterations, "
+  out << "), " << iterations.size() << " iterations ("
+      << num_rejected_iterations << " undone, " << num_reset_images
+      << " images reset to their prior), "
       << (converged ? "converged" : "not converged") << "\n";
+  if (!init_alignment.empty()) {
+    out << "  initial model: " << init_alignment << "\n";
+  }
   for (size_t i = 0; i < iterations.size(); ++i) {
     const LidarMapperIteration& it = iterations[i];
-    out << "  iteration " << i + 1 << ": " << it.num_points << " points, "
+    out << "  iteration " << i + 1 << (it.rejected ? " (undone)" : "")
+        << ": " << it.num_points << " points, "
         << it.num_line_tracks << " line tracks, pose change max "
         << it.max_position_change_m << " m / " << it.max_rotation_change_deg
         << " deg, mean " << it.mean_position_change_m << " m; errors point "
@@ -150,14 +205,19 @@ std::string LidarMapperSummary::Format() const {
         << it.adjustment.mean_line_error_px << " px, lidar rms "
         << it.adjustment.rms_lidar_distance_m << " m; filtered "
         << it.num_filtered_points << " points, " << it.num_filtered_lines
-        << " lines; " << it.seconds << " s\n";
+        << " lines; " << it.num_prior_outliers << " prior outliers; "
+        << it.seconds << " s\n";
   }
   out << "  output " << output_path << ": " << num_points << " points, "
       << num_lines << " lines3D; segments " << lines_ply_path << "\n";
   out << "  time: features+matching " << features_seconds << " s, lines "
       << lines_seconds << " s, initialisation " << init_seconds
       << " s, iterations " << iterations_seconds << " s (adjustment "
-      << adjustment_seconds << " s), total " << total_seconds << " s";
+      << adjustment_seconds << " s), total " << total_seconds << " s\n";
+  out << "  cpu time: features+matching " << features_cpu_seconds
+      << " s, lines " << lines_cpu_seconds << " s, initialisation "
+      << init_cpu_seconds << " s, iterations " << iterations_cpu_seconds
+      << " s, total " << total_cpu_seconds << " s";
   return out.str();
 }
 
@@ -204,6 +264,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
                                   const LidarMapperOptions& options) {
   THROW_CHECK(options.Check(), "lidar_mapper: invalid options (see the log)");
   const auto start_time = std::chrono::steady_clock::now();
+  const double start_cpu = CpuSeconds();
   LidarMapperPaths paths = input_paths;
   THROW_CHECK(!paths.workspace_path.empty(),
               "lidar_mapper: the workspace path is empty");
@@ -255,6 +316,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
               "lidar_mapper: the database " << paths.database_path
                                             << " holds no images");
   auto stage_start = std::chrono::steady_clock::now();
+  double stage_cpu = CpuSeconds();
   if (need_features) {
     LOG(INFO) << "lidar_mapper: feature_extractor (CPU SIFT) on " << num_images
               << " images";
@@ -284,12 +346,16 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
                 {"SiftMatching.use_gpu", "0"},
                 {"SiftMatching.num_threads", threads},
                 {"SequentialMatching.overlap",
-                 std::to_string(options.sequential_overlap)}});
+                 std::to_string(options.sequential_overlap)},
+                {"SequentialMatching.quadratic_overlap",
+                 options.sequential_quadratic_overlap ? "1" : "0"}});
   }
   summary.features_seconds = SecondsSince(stage_start);
+  summary.features_cpu_seconds = CpuSeconds() - stage_cpu;
 
   // ---- 3. Lines.
   stage_start = std::chrono::steady_clock::now();
+  stage_cpu = CpuSeconds();
   {
     size_t num_segments = 0;
     {
@@ -308,6 +374,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
     }
   }
   summary.lines_seconds = SecondsSince(stage_start);
+  summary.lines_cpu_seconds = CpuSeconds() - stage_cpu;
 
   Database database(paths.database_path);
   const Reconstruction prior_model = PriorModel(database);
@@ -324,76 +391,162 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
 
   // ---- 4. Initial poses.
   stage_start = std::chrono::steady_clock::now();
+  stage_cpu = CpuSeconds();
+  const double rotation_sigma_deg =
+      PerAxisRotationSigmaDeg(options.prior_rotation_sigma_deg);
   Reconstruction model = prior_model;
   bool points_only_first = options.init_method == "priors";
-  if (options.init_method == "mapper") {
-    const std::string mapper_path = JoinPaths(work_path, "mapper");
-    std::filesystem::remove_all(mapper_path);
-    CreateDirIfNotExists(mapper_path);
-    LOG(INFO) << "lidar_mapper: stock mapper for the initial poses";
-    Reconstruction mapped;
-    try {
-      colmap.Run("mapper",
-                 {{"database_path", paths.database_path},
-                  {"image_path", paths.image_path},
-                  {"output_path", mapper_path},
-                  {"Mapper.ba_refine_focal_length", "0"},
-                  {"Mapper.ba_refine_principal_point", "0"},
-                  {"Mapper.ba_refine_extra_params", "0"},
-                  {"Mapper.abs_pose_min_num_inliers",
-                   std::to_string(options.mapper_abs_pose_min_num_inliers)},
-                  {"Mapper.abs_pose_min_inlier_ratio",
-                   std::to_string(options.mapper_abs_pose_min_inlier_ratio)},
-                  {"Mapper.num_threads", threads}});
-      mapped = LargestMapperModel(mapper_path);
-    } catch (const Error& error) {
-      LOG(WARNING) << "lidar_mapper: stock mapper failed (" << error.what()
-                   << ")";
-    }
-    if (mapped.images.size() < 3) {
-      // No usable relative poses: continue as init_method "priors".
-      LOG(WARNING) << "lidar_mapper: stock mapper registered "
-                   << mapped.images.size()
-                   << " images; starting from the prior poses instead";
-      points_only_first = true;
-      summary.num_initial_images = static_cast<int>(model.images.size());
+  // Images registered by an accepted initial model outside its consensus:
+  // their poses are wrong (or their part of the model is) and their prior
+  // poses are too coarse to triangulate or associate with, so they stay at
+  // their prior pose, out of triangulation and association, and only their
+  // prior residual enters the adjustment (measured: keeping them in drags
+  // the consensus images back to prior-level errors).
+  std::unordered_map<image_t, bool> held_out;
+  summary.init_used = options.init_method;
+  summary.num_initial_images = static_cast<int>(model.images.size());
+  if (options.init_method != "priors") {
+    std::vector<Reconstruction> candidates;
+    if (options.init_method == "model") {
+      THROW_CHECK(ExistsModel(options.init_model_path),
+                  "lidar_mapper: init_model_path "
+                      << options.init_model_path << " holds no sparse model");
+      candidates.push_back(ReadReconstruction(options.init_model_path));
     } else {
-      const PriorAlignmentSummary alignment =
-          AlignReconstructionToPriors(priors, &mapped);
-      summary.prior_alignment_rms_m = alignment.rms_residual_m;
-      summary.num_initial_images = 0;
-      for (Image& image : model.images) {
-        const Image* mapped_image = mapped.FindImage(image.image_id);
-        if (mapped_image != nullptr) {
-          image.cam_from_world = mapped_image->cam_from_world;
-          ++summary.num_initial_images;
+      const std::string mapper_path = JoinPaths(work_path, "mapper");
+      std::filesystem::remove_all(mapper_path);
+      CreateDirIfNotExists(mapper_path);
+      LOG(INFO) << "lidar_mapper: stock mapper for the initial poses";
+      try {
+        colmap.Run(
+            "mapper",
+            {{"database_path", paths.database_path},
+             {"image_path", paths.image_path},
+             {"output_path", mapper_path},
+             {"Mapper.ba_refine_focal_length", "0"},
+             {"Mapper.ba_refine_principal_point", "0"},
+             {"Mapper.ba_refine_extra_params", "0"},
+             {"Mapper.abs_pose_min_num_inliers",
+              std::to_string(options.mapper_abs_pose_min_num_inliers)},
+             {"Mapper.abs_pose_min_inlier_ratio",
+              std::to_string(options.mapper_abs_pose_min_inlier_ratio)},
+             {"Mapper.num_threads", threads}});
+        candidates = ReadMapperModels(mapper_path);
+      } catch (const Error& error) {
+        LOG(WARNING) << "lidar_mapper: stock mapper failed (" << error.what()
+                     << ")";
+      }
+    }
+    // Each model (stock mapper may write several, e.g. split where the walk
+    // turns on the spot) is aligned robustly on its own. Accepted models
+    // give their consensus images, the largest consensus first (an image
+    // is taken once).
+    RobustPriorAlignmentOptions alignment_options;
+    alignment_options.position_sigma_m = options.prior_position_sigma_m;
+    alignment_options.rotation_sigma_deg = options.prior_rotation_sigma_deg;
+    alignment_options.min_num_inliers = options.init_min_num_inliers;
+    alignment_options.min_inlier_ratio = options.init_min_inlier_ratio;
+    std::vector<RobustPriorAlignmentSummary> alignments;
+    int num_registered = 0;
+    for (Reconstruction& candidate : candidates) {
+      num_registered += static_cast<int>(candidate.images.size());
+      alignments.push_back(RobustAlignReconstructionToPriors(
+          priors, alignment_options, &candidate));
+      LOG(INFO) << "lidar_mapper: initial model of "
+                << candidate.images.size()
+                << " images: " << alignments.back().Format();
+    }
+    std::vector<size_t> order(candidates.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return alignments[a].inlier_image_ids.size() >
+             alignments[b].inlier_image_ids.size();
+    });
+    std::unordered_map<image_t, bool> initialised;
+    std::ostringstream alignment_text;
+    double sum_squared_rms = 0.0;
+    int num_accepted = 0;
+    for (const size_t index : order) {
+      const RobustPriorAlignmentSummary& alignment = alignments[index];
+      alignment_text << (alignment_text.tellp() > 0 ? "; " : "")
+                     << candidates[index].images.size()
+                     << " images: " << alignment.Format();
+      if (!alignment.accepted) {
+        continue;
+      }
+      ++num_accepted;
+      for (const image_t image_id : alignment.inlier_image_ids) {
+        const Image* mapped_image = candidates[index].FindImage(image_id);
+        Image* image = model.FindImage(image_id);
+        if (mapped_image != nullptr && image != nullptr &&
+            !initialised[image_id]) {
+          image->cam_from_world = mapped_image->cam_from_world;
+          initialised[image_id] = true;
+          sum_squared_rms +=
+              alignment.rms_residual_m * alignment.rms_residual_m;
         }
       }
-      LOG(INFO) << "lidar_mapper: mapper registered "
-                << summary.num_initial_images << " of "
-                << model.images.size()
-                << " images, sim3 to the priors: scale "
-                << alignment.prior_from_model.scale << ", rms "
-                << alignment.rms_residual_m
-                << " m; the others start at their prior pose";
     }
-  } else {
-    summary.num_initial_images = static_cast<int>(model.images.size());
+    summary.init_alignment = alignment_text.str();
+    int num_initialised = 0;
+    for (const auto& [image_id, done] : initialised) {
+      num_initialised += done ? 1 : 0;
+    }
+    if (num_accepted == 0) {
+      // No trustworthy relative poses: continue as init_method "priors".
+      LOG(WARNING) << "lidar_mapper: initial model rejected ("
+                   << (candidates.empty() ? std::string("no model")
+                                          : summary.init_alignment)
+                   << "); starting from the prior poses instead";
+      points_only_first = true;
+      summary.init_used = "priors (fallback)";
+    } else {
+      summary.num_initial_images = num_initialised;
+      summary.prior_alignment_rms_m =
+          std::sqrt(sum_squared_rms / num_initialised);
+      summary.num_init_outliers = num_registered - num_initialised;
+      for (const Reconstruction& candidate : candidates) {
+        for (const Image& image : candidate.images) {
+          if (!initialised[image.image_id] &&
+              model.FindImage(image.image_id) != nullptr) {
+            held_out[image.image_id] = true;
+          }
+        }
+      }
+      LOG(INFO) << "lidar_mapper: " << num_initialised << " of "
+                << model.images.size() << " images start at the pose of "
+                << num_accepted << " accepted initial model(s), the others ("
+                << summary.num_init_outliers
+                << " registered outside a consensus) at their prior pose";
+    }
   }
   summary.init_seconds = SecondsSince(stage_start);
+  summary.init_cpu_seconds = CpuSeconds() - stage_cpu;
 
   // ---- 5. Iterations.
   stage_start = std::chrono::steady_clock::now();
+  stage_cpu = CpuSeconds();
   std::vector<LineTrack> tracks;
   for (int iteration = 0; iteration < options.max_num_iterations;
        ++iteration) {
     const auto iteration_start = std::chrono::steady_clock::now();
     LidarMapperIteration record;
+    // What the guard restores when it undoes this iteration.
+    const Reconstruction model_before = model;
 
     // Points: stock point_triangulator, poses and intrinsics fixed.
     const std::string poses_path = JoinPaths(work_path, "poses");
     const std::string triangulated_path = JoinPaths(work_path, "triangulated");
-    WriteReconstruction(poses_path, PosesOnly(model), ModelFormat::kBinary);
+    Reconstruction active = PosesOnly(model);
+    if (!held_out.empty()) {
+      active.images.erase(
+          std::remove_if(active.images.begin(), active.images.end(),
+                         [&](const Image& image) {
+                           return held_out.count(image.image_id) > 0;
+                         }),
+          active.images.end());
+    }
+    WriteReconstruction(poses_path, active, ModelFormat::kBinary);
     CreateDirIfNotExists(triangulated_path);
     colmap.Run("point_triangulator",
                {{"database_path", paths.database_path},
@@ -437,7 +590,8 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
                                       : options.refined_pose_sigma_r_deg;
       matching.num_threads = options.num_threads;
       const AssociationStepSummary association =
-          AssociateWorkspaceLines(&database, model, matching);
+          AssociateWorkspaceLines(&database, held_out.empty() ? model : active,
+                                  matching);
       LOG(INFO) << "lidar_mapper: association with pose sigma "
                 << matching.pose_sigma_t_m << " m / "
                 << matching.pose_sigma_r_deg << " deg: "
@@ -451,7 +605,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
     LineBundleAdjustmentOptions adjustment = options.adjustment;
     adjustment.gauge = LineBAGauge::kPosePriors;
     adjustment.prior_position_sigma_m = options.prior_position_sigma_m;
-    adjustment.prior_rotation_sigma_deg = options.prior_rotation_sigma_deg;
+    adjustment.prior_rotation_sigma_deg = rotation_sigma_deg;
     adjustment.num_threads = options.num_threads;
     if (!use_lines) {
       adjustment.lambda_L = 0.0;
@@ -495,7 +649,59 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
                                     before.rotation));
     }
     record.mean_position_change_m = sum_change / model.images.size();
+
+    // Guard: poses against their priors, before and after.
+    int num_outliers_before = 0;
+    std::vector<Image*> far_images;
+    for (Image& image : model.images) {
+      const Rigid3d& prior = priors.at(image.image_id);
+      if (PriorOutlierLevel(poses_before.at(image.image_id), prior,
+                            options.prior_position_sigma_m,
+                            options.prior_rotation_sigma_deg) > 0) {
+        ++num_outliers_before;
+      }
+      const int level = PriorOutlierLevel(image.cam_from_world, prior,
+                                          options.prior_position_sigma_m,
+                                          options.prior_rotation_sigma_deg);
+      if (level > 0) {
+        ++record.num_prior_outliers;
+      }
+      if (level > 1) {
+        far_images.push_back(&image);
+      }
+    }
+    const int max_outliers = static_cast<int>(
+        std::floor(options.max_prior_outlier_ratio * model.images.size()));
+    record.rejected = record.num_prior_outliers > max_outliers &&
+                      record.num_prior_outliers > num_outliers_before;
     record.seconds = SecondsSince(iteration_start);
+    if (record.rejected) {
+      LOG(WARNING) << "lidar_mapper: iteration " << iteration + 1 << " put "
+                   << record.num_prior_outliers << " of "
+                   << model.images.size()
+                   << " poses outside the 99.9 % region of their priors ("
+                   << num_outliers_before << " before; largest move "
+                   << record.max_position_change_m << " m / "
+                   << record.max_rotation_change_deg
+                   << " deg): undone, iterations stopped";
+      model = model_before;
+      ++summary.num_rejected_iterations;
+      summary.iterations.push_back(record);
+      break;
+    }
+    if (!far_images.empty()) {
+      std::ostringstream names;
+      for (Image* image : far_images) {
+        names << " " << image->name;
+        image->cam_from_world = priors.at(image->image_id);
+      }
+      LOG(WARNING) << "lidar_mapper: iteration " << iteration + 1 << ": "
+                   << far_images.size()
+                   << " images outside the 1 - 1e-6 region of their prior "
+                      "reset to it:"
+                   << names.str();
+      summary.num_reset_images += static_cast<int>(far_images.size());
+    }
     LOG(INFO) << "lidar_mapper: iteration " << iteration + 1 << ": "
               << record.num_points << " points, " << record.num_line_tracks
               << " line tracks" << (use_lines ? "" : " (points only)")
@@ -504,7 +710,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
               << record.mean_position_change_m << " m; "
               << record.adjustment.ToString();
     summary.iterations.push_back(record);
-    if (use_lines && iteration > 0 &&
+    if (use_lines && iteration > 0 && far_images.empty() &&
         record.max_position_change_m < options.max_position_change_m &&
         record.max_rotation_change_deg < options.max_rotation_change_deg) {
       summary.converged = true;
@@ -512,6 +718,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
     }
   }
   summary.iterations_seconds = SecondsSince(stage_start);
+  summary.iterations_cpu_seconds = CpuSeconds() - stage_cpu;
 
   // ---- 6. Output.
   WriteReconstruction(paths.output_path, model, ModelFormat::kBinary);
@@ -519,6 +726,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
   summary.num_points = static_cast<int>(model.points3D.size());
   summary.num_lines = static_cast<int>(model.lines3D.size());
   summary.total_seconds = SecondsSince(start_time);
+  summary.total_cpu_seconds = CpuSeconds() - start_cpu;
   return summary;
 }
 

@@ -53,7 +53,7 @@ Eigen::Vector3d LidarBeamDirection(const SynthesisOptions& options, int ring,
 LidarScan SimulateLidarScan(const RayTracer& tracer,
                             const Rigid3d& world_from_lidar,
                             const SynthesisOptions& options, int frame_index) {
-  const TriangleMesh& mesh = tracer.mesh();
+  const SceneMesh& mesh = tracer.mesh();
   const CounterRng noise(options.seed,
                          StreamId(RandomStream::kLidarNoise, frame_index));
   const Eigen::Matrix3d rotation = world_from_lidar.rotation.toRotationMatrix();

@@ -38,7 +38,7 @@ double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 
 }  // namespace
 
-RayTracer::RayTracer(const TriangleMesh& mesh) : mesh_(mesh) {
+RayTracer::RayTracer(const SceneMesh& mesh) : mesh_(mesh) {
   THROW_CHECK(!mesh.triangles.empty(), "Cannot ray trace an empty mesh");
   device_ = rtcNewDevice(nullptr);
   THROW_CHECK(device_ != nullptr,

@@ -1,4 +1,4 @@
-// Ray casting against a TriangleMesh with Embree 3. One instance is built
+// Ray casting against a SceneMesh with Embree 3. One instance is built
 // per scene and queried concurrently from many threads (Embree's
 // rtcIntersect1 / rtcOccluded1 are thread-safe on a committed scene).
 #pragma once
@@ -30,7 +30,7 @@ class RayTracer {
  public:
   // Builds the acceleration structure; the mesh must outlive the tracer.
   // Throws colmap_lidar::Error with Embree's error code on failure.
-  explicit RayTracer(const TriangleMesh& mesh);
+  explicit RayTracer(const SceneMesh& mesh);
   ~RayTracer();
   RayTracer(const RayTracer&) = delete;
   RayTracer& operator=(const RayTracer&) = delete;
@@ -49,10 +49,10 @@ class RayTracer {
   // all triangles; for tests and evaluation of a few thousand points).
   double DistanceToSurface(const Eigen::Vector3d& point) const;
 
-  const TriangleMesh& mesh() const { return mesh_; }
+  const SceneMesh& mesh() const { return mesh_; }
 
  private:
-  const TriangleMesh& mesh_;
+  const SceneMesh& mesh_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
 };

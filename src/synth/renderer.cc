@@ -28,7 +28,7 @@ Eigen::Vector3d Shade(const RayTracer& tracer, const Eigen::Vector3d& origin,
                       const Eigen::Vector3d& sun) {
   const RayHit hit = tracer.Intersect(origin, direction);
   if (!hit.Valid()) return SkyColour(direction);
-  const TriangleMesh& mesh = tracer.mesh();
+  const SceneMesh& mesh = tracer.mesh();
   const Eigen::Vector3d point = origin + hit.distance * direction;
   const Eigen::Vector3d face_normal =
       mesh.normals[hit.triangle].cast<double>();

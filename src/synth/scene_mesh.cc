@@ -111,7 +111,7 @@ double CreaseEdge::AngleDeg() const {
   return std::acos(cosine) * 180.0 / M_PI;
 }
 
-std::vector<Material> TriangleMesh::VertexMaterials() const {
+std::vector<Material> SceneMesh::VertexMaterials() const {
   std::vector<Material> vertex_materials(vertices.size(), Material::kConcrete);
   for (size_t t = 0; t < triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {

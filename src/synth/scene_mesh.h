@@ -50,7 +50,7 @@ struct CreaseEdge {
   double AngleDeg() const;
 };
 
-struct TriangleMesh {
+struct SceneMesh {
   std::vector<Eigen::Vector3f> vertices;
   // Counter-clockwise seen from outside: the face normal is outward.
   std::vector<Eigen::Vector3i> triangles;
@@ -78,7 +78,7 @@ struct FacadeOpening {
   bool has_sill = true;
 };
 
-// Builds a TriangleMesh and its CreaseEdge list together.
+// Builds a SceneMesh and its CreaseEdge list together.
 class SceneBuilder {
  public:
   // A planar quad a-b-c-d (counter-clockwise seen from the side its normal
@@ -128,11 +128,11 @@ class SceneBuilder {
                      const Eigen::Vector3d& normal1,
                      const Eigen::Vector3d& normal2, bool convex);
 
-  TriangleMesh& mesh() { return mesh_; }
+  SceneMesh& mesh() { return mesh_; }
   std::vector<CreaseEdge>& crease_edges() { return crease_edges_; }
 
  private:
-  TriangleMesh mesh_;
+  SceneMesh mesh_;
   std::vector<CreaseEdge> crease_edges_;
 };
 

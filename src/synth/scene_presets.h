@@ -33,7 +33,7 @@ struct WalkPath {
 
 struct SynthScene {
   std::string name;
-  TriangleMesh mesh;
+  SceneMesh mesh;
   std::vector<CreaseEdge> crease_edges;
   // Candidate survey tripod positions (x, y), in order of preference.
   std::vector<Eigen::Vector2d> survey_stations;

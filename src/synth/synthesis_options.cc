@@ -17,6 +17,7 @@ bool SynthesisOptions::Check() const {
     return false;
   }
   SYNTH_CHECK_OPTION(num_frames >= 1);
+  SYNTH_CHECK_OPTION(path_fraction > 0.0 && path_fraction <= 1.0);
   SYNTH_CHECK_OPTION(image_width >= 8 && image_height >= 8);
   SYNTH_CHECK_OPTION(horizontal_fov_deg > 0.0 && horizontal_fov_deg < 170.0);
   SYNTH_CHECK_OPTION(supersampling >= 1 && supersampling <= 8);

@@ -26,6 +26,10 @@ struct SynthesisOptions {
   std::string preset = "quad";
   // Number of frames (image + scan) along the trajectory.
   int num_frames = 60;
+  // Share of the preset's walk path covered by the frames, from its start,
+  // in (0, 1]. Below 1 the path is walked as an open path up to that arc
+  // length: fewer frames then still overlap (small test scenes).
+  double path_fraction = 1.0;
   // Seed of every random quantity (trajectory jitter, LIDAR, prior noise,
   // image noise, survey). The scene geometry itself is fixed per preset.
   int seed = 0;

@@ -208,7 +208,7 @@ std::vector<CreaseEdge> ReadCreaseEdges(const std::string& path) {
   return edges;
 }
 
-void WriteSceneMesh(const std::string& path, const TriangleMesh& mesh) {
+void WriteSceneMesh(const std::string& path, const SceneMesh& mesh) {
   PlyData ply;
   std::vector<double> xs, ys, zs, materials;
   const std::vector<Material> vertex_materials = mesh.VertexMaterials();
@@ -250,7 +250,8 @@ SynthesisSummary SynthesizeDataset(const SynthesisOptions& options,
   const Camera camera = SynthCamera(options);
   const Rigid3d cam_from_lidar = SynthCamFromLidar();
   const std::vector<Rigid3d> gt_poses =
-      GenerateTrajectory(scene.path, options.num_frames, options.seed);
+      GenerateTrajectory(scene.path, options.num_frames, options.seed,
+                         options.path_fraction);
   const std::vector<Rigid3d> prior_poses =
       PerturbPoses(gt_poses, options.prior_translation_sigma_m,
                    options.prior_rotation_sigma_deg, options.seed);

@@ -62,7 +62,7 @@ std::vector<CreaseEdge> ReadCreaseEdges(const std::string& path);
 
 // Writes the mesh as binary PLY: vertex x y z (float) and material (uchar,
 // the Material enum value), face vertex_indices. Atomic.
-void WriteSceneMesh(const std::string& path, const TriangleMesh& mesh);
+void WriteSceneMesh(const std::string& path, const SceneMesh& mesh);
 
 // Generates the dataset. Throws colmap_lidar::Error when the options fail
 // Check(), when output_path exists and is not empty while

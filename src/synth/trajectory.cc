@@ -52,7 +52,8 @@ Rigid3d CameraPoseFromYawPitchRoll(const Eigen::Vector3d& position,
 }
 
 std::vector<Rigid3d> GenerateTrajectory(const WalkPath& path, int num_frames,
-                                        uint64_t seed) {
+                                        uint64_t seed,
+                                        const double path_fraction) {
   THROW_CHECK(path.waypoints.size() >= 2,
               "A walk path needs at least two waypoints");
   THROW_CHECK(num_frames >= 1, "num_frames must be >= 1");
@@ -64,16 +65,20 @@ std::vector<Rigid3d> GenerateTrajectory(const WalkPath& path, int num_frames,
     cumulative.push_back(cumulative.back() +
                          (points[(k + 1) % points.size()] - points[k]).norm());
   }
-  const double length = cumulative.back();
-  THROW_CHECK(length > 0.0, "The walk path has zero length");
+  THROW_CHECK(path_fraction > 0.0 && path_fraction <= 1.0,
+              "path_fraction must be in (0, 1], got " << path_fraction);
+  THROW_CHECK(cumulative.back() > 0.0, "The walk path has zero length");
+  // A part of a closed path is walked like an open one, end included.
+  const bool closed = path.closed && path_fraction == 1.0;
+  const double length = cumulative.back() * path_fraction;
 
   const CounterRng rng(seed, StreamId(RandomStream::kTrajectory));
   std::vector<Rigid3d> poses;
   poses.reserve(num_frames);
   for (int i = 0; i < num_frames; ++i) {
     const double s =
-        path.closed ? length * i / num_frames
-                    : (num_frames > 1 ? length * i / (num_frames - 1) : 0.0);
+        closed ? length * i / num_frames
+               : (num_frames > 1 ? length * i / (num_frames - 1) : 0.0);
     const Eigen::Vector2d xy = PointAt(points, cumulative, path.closed, s);
     // Walking direction from a central difference over +-0.5 m, so that
     // the heading turns smoothly along a polygonal path.

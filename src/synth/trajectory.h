@@ -25,8 +25,11 @@ Rigid3d CameraPoseFromYawPitchRoll(const Eigen::Vector3d& position,
 // horizontal and 2 cm vertical position noise, pitch/roll jitter of
 // path.jitter_deg. Throws colmap_lidar::Error on a path with fewer than
 // two waypoints or zero length.
+// With path_fraction < 1 only the first path_fraction of the arc length is
+// walked, as an open path (both ends included); path_fraction in (0, 1].
 std::vector<Rigid3d> GenerateTrajectory(const WalkPath& path, int num_frames,
-                                        uint64_t seed);
+                                        uint64_t seed,
+                                        double path_fraction = 1.0);
 
 // Prior poses: the ground truth with per-axis Gaussian translation noise
 // (sigma_t metres) on the camera centre and a rotation about a uniformly

@@ -1,0 +1,161 @@
+#include "src/mesh/lidar_denoising.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include <Eigen/Eigenvalues>
+
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/parallel.h"
+
+namespace colmap_lidar {
+namespace {
+
+// A uniform grid with cells of the search radius: the neighbours of a point
+// lie in the 27 cells around its own.
+class RadiusGrid {
+ public:
+  RadiusGrid(const std::vector<Eigen::Vector3d>& positions, double cell_size)
+      : cell_size_(cell_size) {
+    order_.resize(positions.size());
+    std::iota(order_.begin(), order_.end(), 0);
+    std::vector<uint64_t> keys(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) {
+      keys[i] = Key(Cell(positions[i]));
+    }
+    std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+      return keys[a] < keys[b];
+    });
+    for (size_t begin = 0; begin < order_.size();) {
+      size_t end = begin + 1;
+      while (end < order_.size() && keys[order_[end]] == keys[order_[begin]]) {
+        ++end;
+      }
+      ranges_.emplace(keys[order_[begin]], std::make_pair(begin, end));
+      begin = end;
+    }
+  }
+
+  // Calls visit(index) for every point in the 27 cells around `position`.
+  template <typename Visit>
+  void ForEachNear(const Eigen::Vector3d& position, Visit&& visit) const {
+    const Eigen::Vector3i center = Cell(position);
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it =
+              ranges_.find(Key(center + Eigen::Vector3i(dx, dy, dz)));
+          if (it == ranges_.end()) continue;
+          for (size_t k = it->second.first; k < it->second.second; ++k) {
+            visit(order_[k]);
+          }
+        }
+      }
+    }
+  }
+
+ private:
+  Eigen::Vector3i Cell(const Eigen::Vector3d& position) const {
+    return (position / cell_size_).array().floor().cast<int>();
+  }
+  static uint64_t Key(const Eigen::Vector3i& cell) {
+    // 21 bits per axis (two's complement wrap): distinct for any scene
+    // smaller than 2^21 cells per axis.
+    const uint64_t mask = (1ull << 21) - 1;
+    return ((static_cast<uint64_t>(cell.x()) & mask) << 42) |
+           ((static_cast<uint64_t>(cell.y()) & mask) << 21) |
+           (static_cast<uint64_t>(cell.z()) & mask);
+  }
+
+  double cell_size_;
+  std::vector<uint32_t> order_;
+  std::unordered_map<uint64_t, std::pair<size_t, size_t>> ranges_;
+};
+
+}  // namespace
+
+bool LidarDenoisingOptions::Check() const {
+  if (!(radius_m >= 0)) {
+    LOG(ERROR) << "LIDAR denoising radius must be >= 0";
+    return false;
+  }
+  if (!(max_plane_std_m > 0)) {
+    LOG(ERROR) << "LIDAR denoising max_plane_std_m must be > 0";
+    return false;
+  }
+  if (min_neighbors < 3) {
+    LOG(ERROR) << "LIDAR denoising min_neighbors must be >= 3";
+    return false;
+  }
+  return true;
+}
+
+LidarDenoisingSummary DenoiseLidarVoxels(const LidarDenoisingOptions& options,
+                                         const std::vector<uint32_t>& counts,
+                                         int num_threads,
+                                         std::vector<Eigen::Vector3d>* positions) {
+  THROW_CHECK(options.Check(), "Invalid LIDAR denoising options");
+  THROW_CHECK(counts.size() == positions->size(),
+              "LIDAR denoising: counts and positions differ in length");
+  LidarDenoisingSummary summary;
+  if (options.radius_m == 0 || positions->empty()) return summary;
+  const std::vector<Eigen::Vector3d>& input = *positions;
+  const RadiusGrid grid(input, options.radius_m);
+  const double sq_radius = options.radius_m * options.radius_m;
+  const double max_variance =
+      options.max_plane_std_m * options.max_plane_std_m;
+  std::vector<Eigen::Vector3d> output(input);
+  std::vector<uint8_t> projected(input.size(), 0);
+  constexpr int kBlock = 4096;
+  const int num_blocks =
+      static_cast<int>((input.size() + kBlock - 1) / kBlock);
+  ParallelFor(0, num_blocks, num_threads, [&](int block) {
+    const size_t end = std::min(input.size(), (block + 1) * size_t{kBlock});
+    for (size_t i = block * size_t{kBlock}; i < end; ++i) {
+      // Count-weighted first and second moments of the neighbourhood.
+      double weight_sum = 0;
+      int num_neighbors = 0;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+      grid.ForEachNear(input[i], [&](uint32_t j) {
+        const Eigen::Vector3d offset = input[j] - input[i];
+        if (offset.squaredNorm() > sq_radius) return;
+        const double weight = std::max<uint32_t>(counts[j], 1);
+        weight_sum += weight;
+        sum += weight * offset;
+        second += weight * offset * offset.transpose();
+        ++num_neighbors;
+      });
+      if (num_neighbors < options.min_neighbors) continue;
+      const Eigen::Vector3d mean = sum / weight_sum;
+      const Eigen::Matrix3d covariance =
+          second / weight_sum - mean * mean.transpose();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+      if (!(solver.eigenvalues()(0) < max_variance)) continue;
+      const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+      // input[i] is the origin of the offsets: move it onto the plane
+      // through `mean`.
+      output[i] = input[i] + normal * normal.dot(mean);
+      projected[i] = 1;
+    }
+  });
+  double displacement_sum = 0;
+  for (size_t i = 0; i < input.size(); ++i) {
+    if (!projected[i]) continue;
+    ++summary.num_projected;
+    displacement_sum += (output[i] - input[i]).norm();
+  }
+  if (summary.num_projected > 0) {
+    summary.mean_displacement_m = displacement_sum / summary.num_projected;
+  }
+  *positions = std::move(output);
+  LOG(INFO) << "LIDAR denoising: " << summary.num_projected << " of "
+            << input.size() << " voxels projected onto their local plane (r "
+            << options.radius_m << " m), mean displacement "
+            << summary.mean_displacement_m << " m";
+  return summary;
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,174 @@
+// End to end: the whole pipeline on a small synthetic scene with the real
+// colmap binary, checked against bounds; resumption; bad input.
+#include "src/pipeline/automatic_reconstructor.h"
+
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/testing.h"
+
+namespace colmap_lidar {
+namespace {
+
+// A small, quick scene: 12 frames over the first 12% of the courtyard walk
+// (about 9 m), half-size images, a lighter LIDAR and survey.
+AutomaticReconstructorOptions SmallSceneOptions() {
+  AutomaticReconstructorOptions options;
+  options.num_threads = 2;
+  options.synthesis.num_frames = 12;
+  options.synthesis.path_fraction = 0.12;
+  options.synthesis.image_width = 424;
+  options.synthesis.image_height = 240;
+  options.synthesis.supersampling = 2;
+  options.synthesis.lidar_columns = 512;
+  options.synthesis.survey_angular_step_deg = 0.2;
+  options.synthesis.survey_max_points = 500000;
+  options.synthesis.write_depth_maps = false;
+  return options;
+}
+
+// A number from a JSON file written by src/eval/json_writer: the first
+// value after "key": inside the object that follows "section": (or at top
+// level when section is empty). Enough for the flat reports checked here.
+double JsonNumber(const std::string& path, const std::string& section,
+                  const std::string& key) {
+  const std::string text = ReadTextFile(path);
+  size_t start = 0;
+  if (!section.empty()) {
+    start = text.find("\"" + section + "\":");
+    THROW_CHECK(start != std::string::npos, section << " not in " << path);
+  }
+  const size_t at = text.find("\"" + key + "\":", start);
+  THROW_CHECK(at != std::string::npos, key << " not in " << path);
+  return std::stod(text.substr(text.find(':', at) + 1));
+}
+
+// The list of numbers after "key": [ ... ].
+std::vector<double> JsonArray(const std::string& path, const std::string& key) {
+  const std::string text = ReadTextFile(path);
+  const size_t at = text.find("\"" + key + "\":");
+  THROW_CHECK(at != std::string::npos, key << " not in " << path);
+  const size_t open = text.find('[', at);
+  const size_t close = text.find(']', open);
+  std::string inside = text.substr(open + 1, close - open - 1);
+  for (char& c : inside) {
+    if (c == ',') c = ' ';
+  }
+  std::istringstream stream(inside);
+  std::vector<double> values;
+  double value = 0.0;
+  while (stream >> value) {
+    values.push_back(value);
+  }
+  return values;
+}
+
+TEST(AutomaticReconstructor, SmallSceneEndToEnd) {
+  const std::string workspace =
+      JoinPaths(testing::CreateTestDir(), "workspace");
+  const AutomaticReconstructorOptions options = SmallSceneOptions();
+  const AutomaticReconstructorSummary summary =
+      RunAutomaticReconstructor(workspace, options);
+
+  // Every stage ran but the odometry (the synthetic scene has priors).
+  EXPECT_EQ(summary.ran.size(), static_cast<size_t>(kNumPipelineStages - 1));
+  EXPECT_EQ(summary.not_applicable,
+            std::vector<std::string>({"odometry"}));
+  const PipelinePaths paths(workspace);
+  EXPECT_EQ(summary.mesh_path, paths.mesh);
+  EXPECT_EQ(summary.report_path, JoinPaths(paths.report, "index.html"));
+  for (const StageRecord& record : summary.ran) {
+    EXPECT_GT(record.wall_seconds, 0.0) << record.stage;
+    EXPECT_GT(record.peak_memory_bytes, 0u) << record.stage;
+  }
+
+  // Poses: the adjustment removes most of the 0.5 m / 5 deg prior noise.
+  const double prior_error = JsonNumber(
+      JoinPaths(paths.eval, "poses_prior_none.json"), "position_error_m",
+      "mean");
+  const double refined_error = JsonNumber(
+      JoinPaths(paths.eval, "poses_refined_none.json"), "position_error_m",
+      "mean");
+  const double refined_sim3_error = JsonNumber(
+      JoinPaths(paths.eval, "poses_refined_sim3.json"), "position_error_m",
+      "mean");
+  LOG(INFO) << "poses: prior " << prior_error << " m, refined "
+            << refined_error << " m (none), " << refined_sim3_error
+            << " m (sim3)";
+  EXPECT_GT(prior_error, 0.3);
+  EXPECT_LT(refined_error, 0.5 * prior_error);
+  EXPECT_LT(refined_sim3_error, 0.05);
+  EXPECT_EQ(JsonNumber(JoinPaths(paths.eval, "poses_refined_none.json"), "",
+                       "num_matched"),
+            12);
+
+  // Mesh: thresholds 0.02 0.05 0.1 0.2 0.5 m.
+  const std::string mesh_json = JoinPaths(paths.eval, "mesh_ours.json");
+  const std::vector<double> thresholds = JsonArray(mesh_json, "thresholds_m");
+  const std::vector<double> fscores = JsonArray(mesh_json, "fscore");
+  ASSERT_EQ(thresholds.size(), 5u);
+  ASSERT_EQ(fscores.size(), 5u);
+  LOG(INFO) << "mesh F: " << fscores[0] << " " << fscores[1] << " "
+            << fscores[2] << " " << fscores[3] << " " << fscores[4];
+  EXPECT_GT(fscores[4], 0.8);
+  EXPECT_GT(fscores[2], 0.5);
+  EXPECT_TRUE(ExistsFile(JoinPaths(paths.eval, "mesh_lidar_poisson.json")));
+  EXPECT_TRUE(ExistsFile(JoinPaths(paths.eval, "trajectories.csv")));
+
+  // Report: a page with its figures embedded.
+  const std::string html = ReadTextFile(summary.report_path);
+  EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
+  EXPECT_NE(html.find("Stock COLMAP mapper"), std::string::npos);
+  for (const char* png : {"trajectories.png", "pose_error_histogram.png",
+                          "mesh_precision_recall.png", "mesh_ours.png",
+                          "line_overlays.png"}) {
+    EXPECT_TRUE(ExistsFile(JoinPaths(paths.report, png))) << png;
+  }
+
+  // A second run resumes: everything is marked done.
+  const AutomaticReconstructorSummary again =
+      RunAutomaticReconstructor(workspace, options);
+  EXPECT_TRUE(again.ran.empty());
+  EXPECT_EQ(again.skipped.size(), summary.ran.size());
+
+  // Re-running one stage drops the marks of the later ones.
+  AutomaticReconstructorOptions mesh_only = options;
+  mesh_only.stages = "mesh";
+  mesh_only.overwrite = true;
+  const AutomaticReconstructorSummary remeshed =
+      RunAutomaticReconstructor(workspace, mesh_only);
+  ASSERT_EQ(remeshed.ran.size(), 1u);
+  EXPECT_FALSE(ExistsFile(paths.StageMark(PipelineStage::kEvaluate)));
+  EXPECT_FALSE(ExistsFile(paths.StageMark(PipelineStage::kReport)));
+  EXPECT_TRUE(ExistsFile(paths.StageMark(PipelineStage::kFusion)));
+}
+
+TEST(AutomaticReconstructor, BadInputIsReportedAndLeavesNoMark) {
+  const std::string dir = testing::CreateTestDir();
+  AutomaticReconstructorOptions options = SmallSceneOptions();
+  options.dataset_path = JoinPaths(dir, "no_such_dataset");
+  const std::string workspace = JoinPaths(dir, "workspace");
+  try {
+    RunAutomaticReconstructor(workspace, options);
+    FAIL() << "expected an error";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("import"), std::string::npos) << message;
+    EXPECT_NE(message.find("no_such_dataset"), std::string::npos) << message;
+  }
+  EXPECT_FALSE(ExistsFile(
+      PipelinePaths(workspace).StageMark(PipelineStage::kImport)));
+
+  options.stages = "mesh:import";
+  EXPECT_FALSE(options.Check());
+  options.stages = "all";
+  options.dense_image_step = 0;
+  EXPECT_FALSE(options.Check());
+}
+
+}  // namespace
+}  // namespace colmap_lidar

@@ -1,0 +1,270 @@
+#include "src/pipeline/pipeline_evaluation.h"
+
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "colmap_ext/model/model_io.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
+#include "src/dataset/poses.h"
+#include "src/eval/pose_evaluator.h"
+#include "src/lidar/lidar_fusion.h"
+
+namespace colmap_lidar {
+namespace {
+
+// Camera centres by frame name (image name or its file stem, as the pose
+// evaluator matches them).
+std::map<std::string, Eigen::Vector3d> CentresByFrame(
+    const Reconstruction& model) {
+  std::map<std::string, Eigen::Vector3d> centres;
+  for (const Image& image : model.images) {
+    std::string frame = image.name;
+    const size_t slash = frame.find_last_of('/');
+    if (slash != std::string::npos) {
+      frame = frame.substr(slash + 1);
+    }
+    const size_t dot = frame.find_last_of('.');
+    if (dot != std::string::npos) {
+      frame = frame.substr(0, dot);
+    }
+    centres[frame] = image.ProjectionCenter();
+  }
+  return centres;
+}
+
+void WriteTrajectories(const std::string& path,
+                       const std::vector<FramePose>& ground_truth,
+                       const Reconstruction* prior,
+                       const Reconstruction* refined) {
+  const std::map<std::string, Eigen::Vector3d> prior_centres =
+      prior != nullptr ? CentresByFrame(*prior)
+                       : std::map<std::string, Eigen::Vector3d>();
+  const std::map<std::string, Eigen::Vector3d> refined_centres =
+      refined != nullptr ? CentresByFrame(*refined)
+                         : std::map<std::string, Eigen::Vector3d>();
+  WriteFileAtomically(
+      path,
+      [&](std::ostream& stream) {
+        stream << std::setprecision(9);
+        stream << "frame,gt_x,gt_y,gt_z,prior_x,prior_y,prior_z,refined_x,"
+                  "refined_y,refined_z\n";
+        const auto write_centre =
+            [&stream](const std::map<std::string, Eigen::Vector3d>& centres,
+                      const std::string& frame) {
+              const auto it = centres.find(frame);
+              if (it == centres.end()) {
+                stream << ",,,";
+              } else {
+                stream << "," << it->second.x() << "," << it->second.y()
+                       << "," << it->second.z();
+              }
+            };
+        for (const FramePose& pose : ground_truth) {
+          const Eigen::Vector3d& centre = pose.world_from_cam.translation;
+          stream << pose.frame << "," << centre.x() << "," << centre.y()
+                 << "," << centre.z();
+          write_centre(prior_centres, pose.frame);
+          write_centre(refined_centres, pose.frame);
+          stream << "\n";
+        }
+      },
+      /*binary=*/false);
+}
+
+// Evaluates `model_path` with `alignment` into <dir>/poses_<name>_<alignment>
+// .json.
+PoseEvaluation EvaluateModelPoses(const Reconstruction& model,
+                                  const std::vector<FramePose>& ground_truth,
+                                  const std::string& alignment,
+                                  const std::string& name,
+                                  const std::string& dir) {
+  PoseEvaluationOptions options;
+  options.alignment = alignment;
+  const PoseEvaluation evaluation = EvaluatePoses(model, ground_truth, options);
+  WritePoseEvaluationJson(
+      JoinPaths(dir, "poses_" + name + "_" + alignment + ".json"), evaluation);
+  LOG(INFO) << "evaluate: " << name << " poses (" << alignment << "): mean "
+            << evaluation.position_stats_m.mean << " m, "
+            << evaluation.rotation_stats_deg.mean << " deg over "
+            << evaluation.num_matched << " of "
+            << evaluation.num_ground_truth_frames << " frames";
+  return evaluation;
+}
+
+// The applied mesh alignment, for the report and for anyone re-evaluating
+// the meshes with their own tools.
+void WriteMeshAlignmentJson(const std::string& path,
+                            const std::string& alignment,
+                            const Eigen::Affine3d& reference_from_estimate) {
+  WriteFileAtomically(
+      path,
+      [&](std::ostream& stream) {
+        stream << std::setprecision(12) << "{\n  \"alignment\": \""
+               << alignment << "\",\n  \"reference_from_estimate\": [";
+        const Eigen::Matrix4d matrix = reference_from_estimate.matrix();
+        for (int r = 0; r < 4; ++r) {
+          stream << (r > 0 ? ", " : "") << "[";
+          for (int c = 0; c < 4; ++c) {
+            stream << (c > 0 ? ", " : "") << matrix(r, c);
+          }
+          stream << "]";
+        }
+        stream << "]\n}\n";
+      },
+      /*binary=*/false);
+}
+
+// Evaluates a mesh into <dir>/mesh_<name>.json and the two coloured PLYs;
+// returns F at the threshold closest to 0.1 m.
+double EvaluateMeshInto(const std::string& mesh_path,
+                        const std::string& reference_path,
+                        const MeshEvaluationOptions& options,
+                        const Eigen::Affine3d& reference_from_estimate,
+                        const std::string& name, const std::string& dir) {
+  const MeshEvaluation evaluation = EvaluateMeshFiles(
+      mesh_path, reference_path, options, reference_from_estimate);
+  WriteMeshEvaluationJson(JoinPaths(dir, "mesh_" + name + ".json"),
+                          evaluation);
+  WritePrecisionColoredPly(JoinPaths(dir, "mesh_" + name + "_precision.ply"),
+                           evaluation);
+  WriteRecallColoredPly(JoinPaths(dir, "mesh_" + name + "_recall.ply"),
+                        evaluation);
+  size_t best = 0;
+  for (size_t i = 0; i < evaluation.thresholds_m.size(); ++i) {
+    if (std::abs(evaluation.thresholds_m[i] - 0.1) <
+        std::abs(evaluation.thresholds_m[best] - 0.1)) {
+      best = i;
+    }
+  }
+  LOG(INFO) << "evaluate: mesh " << name << ": F "
+            << evaluation.fscores[best] << " at "
+            << evaluation.thresholds_m[best] << " m";
+  return evaluation.fscores[best];
+}
+
+// The LIDAR-only baseline: the registered cloud's points with a normal,
+// meshed by stock poisson_mesher into `mesh_path`.
+void MeshLidarWithPoisson(const std::string& cloud_path,
+                          const std::string& work_dir,
+                          const std::string& mesh_path,
+                          const PipelineEvaluationOptions& options) {
+  const FusedLidarCloud cloud = ReadFusedLidarCloud(cloud_path);
+  std::vector<PlyPoint> points;
+  points.reserve(cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    // Points without a plane fit have a zero normal; Poisson needs one.
+    if (cloud.normals[i].squaredNorm() > 0.5f) {
+      PlyPoint point;
+      point.xyz = cloud.points[i];
+      point.normal = cloud.normals[i];
+      points.push_back(point);
+    }
+  }
+  THROW_CHECK(!points.empty(), "No LIDAR point with a normal in "
+                                   << cloud_path);
+  const std::string input_path = JoinPaths(work_dir, "lidar_points.ply");
+  WriteColmapPlyPoints(input_path, points);
+  const ColmapRunner colmap(options.colmap);
+  colmap.Run("poisson_mesher",
+             {{"input_path", input_path},
+              {"output_path", mesh_path},
+              {"PoissonMeshing.depth", std::to_string(options.poisson_depth)},
+              {"PoissonMeshing.trim", std::to_string(options.poisson_trim)},
+              {"PoissonMeshing.color", "0"},
+              {"PoissonMeshing.num_threads",
+               std::to_string(options.num_threads)}});
+}
+
+}  // namespace
+
+std::string EvaluatePipeline(const PipelineEvaluationInput& input,
+                             const PipelineEvaluationOptions& options) {
+  StagedDirectory staged(input.output_path);
+  const std::string& dir = staged.path();
+  std::ostringstream note;
+  note << std::setprecision(3);
+
+  // Identity unless the refined model and the ground truth give one.
+  std::string mesh_alignment = "none";
+  Eigen::Affine3d reference_from_estimate = Eigen::Affine3d::Identity();
+  const std::string gt_path = JoinPaths(input.dataset_path, "poses_gt.txt");
+  if (ExistsFile(gt_path)) {
+    const std::vector<FramePose> ground_truth = ReadPoses(gt_path);
+    std::unique_ptr<Reconstruction> prior;
+    std::unique_ptr<Reconstruction> refined;
+    if (ExistsModel(input.prior_model_path)) {
+      prior = std::make_unique<Reconstruction>(
+          ReadReconstruction(input.prior_model_path));
+      note << "priors "
+           << EvaluateModelPoses(*prior, ground_truth, "none", "prior", dir)
+                  .position_stats_m.mean
+           << " m; ";
+    }
+    if (ExistsModel(input.refined_model_path)) {
+      refined = std::make_unique<Reconstruction>(
+          ReadReconstruction(input.refined_model_path));
+      note << "refined "
+           << EvaluateModelPoses(*refined, ground_truth, "none", "refined",
+                                 dir)
+                  .position_stats_m.mean
+           << " m (none), ";
+      const PoseEvaluation se3 =
+          EvaluateModelPoses(*refined, ground_truth, "se3", "refined", dir);
+      const PoseEvaluation sim3 =
+          EvaluateModelPoses(*refined, ground_truth, "sim3", "refined", dir);
+      note << sim3.position_stats_m.mean << " m (sim3); ";
+      if (options.mesh_alignment == "se3") {
+        mesh_alignment = options.mesh_alignment;
+        reference_from_estimate = GroundTruthFromEstimate(se3);
+      } else if (options.mesh_alignment == "sim3") {
+        mesh_alignment = options.mesh_alignment;
+        reference_from_estimate = GroundTruthFromEstimate(sim3);
+      }
+    }
+    if (ExistsModel(input.mapper_model_path)) {
+      const Reconstruction mapper = ReadReconstruction(input.mapper_model_path);
+      if (mapper.images.size() >= 3) {
+        note << "colmap mapper "
+             << EvaluateModelPoses(mapper, ground_truth, "sim3",
+                                   "colmap_mapper", dir)
+                    .position_stats_m.mean
+             << " m (sim3, " << mapper.images.size() << " images); ";
+      }
+    }
+    WriteTrajectories(JoinPaths(dir, "trajectories.csv"), ground_truth,
+                      prior.get(), refined.get());
+  }
+
+  const std::string reference_path =
+      JoinPaths(input.dataset_path, "reference.ply");
+  if (ExistsFile(reference_path)) {
+    MeshEvaluationOptions mesh_options = options.mesh;
+    if (mesh_options.observed_cloud_path.empty() &&
+        ExistsFile(input.lidar_cloud_path)) {
+      mesh_options.observed_cloud_path = input.lidar_cloud_path;
+    }
+    WriteMeshAlignmentJson(JoinPaths(dir, "mesh_alignment.json"),
+                           mesh_alignment, reference_from_estimate);
+    note << "meshes aligned (" << mesh_alignment << "): ";
+    if (ExistsFile(input.mesh_path)) {
+      note << "mesh F@0.1 "
+           << EvaluateMeshInto(input.mesh_path, reference_path, mesh_options,
+                               reference_from_estimate, "ours", dir);
+    }
+    if (options.lidar_baseline && ExistsFile(input.lidar_cloud_path)) {
+      const std::string poisson_path =
+          JoinPaths(dir, "mesh_lidar_poisson.ply");
+      MeshLidarWithPoisson(input.lidar_cloud_path, dir, poisson_path, options);
+      note << ", LIDAR-only Poisson F@0.1 "
+           << EvaluateMeshInto(poisson_path, reference_path, mesh_options,
+                               reference_from_estimate, "lidar_poisson", dir);
+    }
+  }
+  staged.Commit();
+  return note.str();
+}
+
+}  // namespace colmap_lidar
