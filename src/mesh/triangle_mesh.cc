@@ -155,6 +155,21 @@ void RemoveUnusedVertices(TriangleMesh* mesh) {
   }
 }
 
+size_t RemoveNonFiniteFaces(TriangleMesh* mesh) {
+  const size_t num_faces = mesh->faces.size();
+  mesh->faces.erase(
+      std::remove_if(mesh->faces.begin(), mesh->faces.end(),
+                     [mesh](const std::array<uint32_t, 3>& face) {
+                       for (const uint32_t idx : face) {
+                         if (!mesh->vertices[idx].allFinite()) return true;
+                       }
+                       return false;
+                     }),
+      mesh->faces.end());
+  RemoveUnusedVertices(mesh);
+  return num_faces - mesh->faces.size();
+}
+
 MeshEdgeStats ComputeMeshEdgeStats(const TriangleMesh& mesh) {
   std::unordered_map<uint64_t, uint32_t> edge_count;
   edge_count.reserve(3 * mesh.faces.size());

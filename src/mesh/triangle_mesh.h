@@ -48,6 +48,11 @@ MeshCleanupSummary CleanupMesh(const MeshCleanupOptions& options,
 // Drops unused vertices and renumbers the faces.
 void RemoveUnusedVertices(TriangleMesh* mesh);
 
+// Drops the faces that use a vertex with a non-finite coordinate, then the
+// unused vertices (stock poisson_mesher can emit NaN vertices). Returns the
+// number of faces dropped.
+size_t RemoveNonFiniteFaces(TriangleMesh* mesh);
+
 // Edges (as sorted vertex pairs) used by exactly one face, and by more than
 // two faces. A closed 2-manifold mesh has neither.
 struct MeshEdgeStats {

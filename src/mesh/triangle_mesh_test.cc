@@ -1,5 +1,7 @@
 #include "src/mesh/triangle_mesh.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
@@ -27,6 +29,21 @@ TEST(TriangleMesh, EdgeStatsAndNormals) {
   EXPECT_TRUE(stats.non_manifold_edges.empty());
   EXPECT_TRUE(mesh.FaceNormal(0).isApprox(Eigen::Vector3d(0, 0, -1)));
   EXPECT_GT(mesh.FaceNormal(3).dot(Eigen::Vector3d(1, 1, 1)), 0);
+}
+
+TEST(TriangleMesh, RemoveNonFiniteFaces) {
+  TriangleMesh mesh = TetrahedronAndTriangle();
+  mesh.vertices[3].z() = std::numeric_limits<double>::quiet_NaN();
+  mesh.vertices[6].x() = std::numeric_limits<double>::infinity();
+  // Faces 1, 2, 3 use vertex 3, face 4 uses vertex 6.
+  EXPECT_EQ(RemoveNonFiniteFaces(&mesh), 4u);
+  ASSERT_EQ(mesh.faces.size(), 1u);
+  EXPECT_EQ(mesh.vertices.size(), 3u);
+  for (const Eigen::Vector3d& vertex : mesh.vertices) {
+    EXPECT_TRUE(vertex.allFinite());
+  }
+  EXPECT_TRUE(mesh.FaceNormal(0).isApprox(Eigen::Vector3d(0, 0, -1)));
+  EXPECT_EQ(RemoveNonFiniteFaces(&mesh), 0u);
 }
 
 TEST(TriangleMesh, CleanupRemovesSmallComponentsAndLongEdges) {

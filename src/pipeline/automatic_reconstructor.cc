@@ -376,6 +376,13 @@ std::string WhyNotApplicable(const PipelineStage stage,
 
 }  // namespace
 
+LidarPatchMatchOptions PipelinePatchMatchOptions() {
+  LidarPatchMatchOptions options;
+  options.num_iterations = 2;
+  options.num_geom_iterations = 1;
+  return options;
+}
+
 bool AutomaticReconstructorOptions::Check() const {
   std::vector<PipelineStage> selected;
   PIPELINE_CHECK(ParsePipelineStages(stages, &selected),

@@ -1,5 +1,6 @@
 #include "src/pipeline/pipeline_evaluation.h"
 
+#include <filesystem>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "src/dataset/poses.h"
 #include "src/eval/pose_evaluator.h"
 #include "src/lidar/lidar_fusion.h"
+#include "src/mesh/triangle_mesh.h"
 
 namespace colmap_lidar {
 namespace {
@@ -168,14 +170,23 @@ void MeshLidarWithPoisson(const std::string& cloud_path,
   const std::string input_path = JoinPaths(work_dir, "lidar_points.ply");
   WriteColmapPlyPoints(input_path, points);
   const ColmapRunner colmap(options.colmap);
+  const std::string raw_path = JoinPaths(work_dir, "lidar_poisson_raw.ply");
   colmap.Run("poisson_mesher",
              {{"input_path", input_path},
-              {"output_path", mesh_path},
+              {"output_path", raw_path},
               {"PoissonMeshing.depth", std::to_string(options.poisson_depth)},
               {"PoissonMeshing.trim", std::to_string(options.poisson_trim)},
               {"PoissonMeshing.color", "0"},
               {"PoissonMeshing.num_threads",
                std::to_string(options.num_threads)}});
+  TriangleMesh mesh = ReadMeshPly(raw_path);
+  const size_t num_dropped = RemoveNonFiniteFaces(&mesh);
+  if (num_dropped > 0) {
+    LOG(WARNING) << "evaluate: poisson_mesher gave " << num_dropped
+                 << " faces with a non-finite vertex; dropped";
+  }
+  WriteMeshPly(mesh_path, mesh);
+  std::filesystem::remove(raw_path);
 }
 
 }  // namespace

@@ -215,6 +215,18 @@ class Report:
                            'ground truth, priors, refined')
 
     # ---- Meshes.
+    @staticmethod
+    def alignment_note(eval_dir):
+        data = load_json(os.path.join(eval_dir, 'mesh_alignment.json'))
+        if data is None or data['alignment'] == 'none':
+            return ' The meshes are compared as reconstructed, unaligned.'
+        return (f' The meshes are first carried into the ground-truth frame '
+                f'by the {esc(data["alignment"])} alignment of the refined '
+                'camera centres (eval/mesh_alignment.json): the world frame '
+                'of a reconstruction from noisy priors is only known to the '
+                'accuracy of the priors\' mean, which the table would '
+                'otherwise measure.')
+
     def meshes(self):
         eval_dir = os.path.join(self.workspace, 'eval')
         results = []
@@ -241,7 +253,8 @@ class Report:
                 '2017). Precision: share of mesh samples within the '
                 'threshold of the reference; recall: share of the reference '
                 'points near what the sensors observed (the registered '
-                'LIDAR cloud) within the threshold of the mesh.</p>'
+                'LIDAR cloud) within the threshold of the mesh.'
+                f'{self.alignment_note(eval_dir)}</p>'
                 f'<table><tr><th>method</th>{head}</tr>' + '\n'.join(rows) +
                 '</table>')
         fig, axes = plt.subplots(1, 3, figsize=(13, 4))

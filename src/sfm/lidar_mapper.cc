@@ -76,6 +76,69 @@ std::string ThreadsArg(int num_threads) {
   return std::to_string(num_threads <= 0 ? -1 : num_threads);
 }
 
+// Registers the images of `pending` (absent from the model at
+// `model_path`) with stock image_registrator and takes each registered pose
+// that lies inside the 99.9 % region of its prior; those images leave
+// `pending`. Returns their count. A failed registrator run is a warning:
+// the images keep waiting at their prior pose.
+int RegisterPendingImages(const ColmapRunner& colmap,
+                          const LidarMapperPaths& paths,
+                          const LidarMapperOptions& options,
+                          const std::string& model_path,
+                          const std::string& output_path,
+                          const std::unordered_map<image_t, Rigid3d>& priors,
+                          std::unordered_map<image_t, bool>* pending,
+                          Reconstruction* model) {
+  std::filesystem::remove_all(output_path);
+  CreateDirIfNotExists(output_path);
+  Reconstruction registered;
+  try {
+    colmap.Run("image_registrator",
+               {{"database_path", paths.database_path},
+                {"input_path", model_path},
+                {"output_path", output_path},
+                {"Mapper.ba_refine_focal_length", "0"},
+                {"Mapper.ba_refine_principal_point", "0"},
+                {"Mapper.ba_refine_extra_params", "0"},
+                {"Mapper.abs_pose_min_num_inliers",
+                 std::to_string(options.mapper_abs_pose_min_num_inliers)},
+                {"Mapper.abs_pose_min_inlier_ratio",
+                 std::to_string(options.mapper_abs_pose_min_inlier_ratio)},
+                {"Mapper.num_threads", ThreadsArg(options.num_threads)}});
+    registered = ReadReconstruction(output_path);
+  } catch (const Error& error) {
+    LOG(WARNING) << "lidar_mapper: image_registrator failed (" << error.what()
+                 << "); " << pending->size()
+                 << " images keep their prior pose";
+    return 0;
+  }
+  int num_taken = 0;
+  int num_far = 0;
+  for (auto it = pending->begin(); it != pending->end();) {
+    const Image* image = registered.FindImage(it->first);
+    Image* target = model->FindImage(it->first);
+    if (image == nullptr || target == nullptr) {
+      ++it;
+      continue;
+    }
+    if (PriorOutlierLevel(image->cam_from_world, priors.at(it->first),
+                          options.prior_position_sigma_m,
+                          options.prior_rotation_sigma_deg) > 0) {
+      ++num_far;
+      ++it;
+      continue;
+    }
+    target->cam_from_world = image->cam_from_world;
+    ++num_taken;
+    it = pending->erase(it);
+  }
+  LOG(INFO) << "lidar_mapper: image_registrator placed " << num_taken
+            << " pending images (" << num_far
+            << " registered outside their prior's region, not taken); "
+            << pending->size() << " still pending";
+  return num_taken;
+}
+
 // Cameras of the database plus one image per database image with a prior
 // pose, at that pose, without points: the starting model of the "priors"
 // initialisation and the fallback pose of images the mapper missed.
@@ -186,6 +249,10 @@ std::string LidarMapperSummary::Format() const {
       << ", " << num_initial_images << " initialised";
   if (prior_alignment_rms_m >= 0.0) {
     out << ", sim3 to priors rms " << prior_alignment_rms_m << " m";
+  }
+  if (num_pending_images > 0) {
+    out << ", " << num_registered_pending << " of " << num_pending_images
+        << " pending images registered";
   }
   out << "), " << iterations.size() << " iterations ("
       << num_rejected_iterations << " undone, " << num_reset_images
@@ -513,11 +580,25 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
           }
         }
       }
+      // Unplaced images wait for their registration against the model
+      // rather than adding points from their prior poses.
+      if (options.register_pending_images) {
+        for (const Image& image : model.images) {
+          if (!initialised[image.image_id]) {
+            held_out[image.image_id] = true;
+          }
+        }
+        summary.num_pending_images = static_cast<int>(held_out.size());
+      }
       LOG(INFO) << "lidar_mapper: " << num_initialised << " of "
                 << model.images.size() << " images start at the pose of "
                 << num_accepted << " accepted initial model(s), the others ("
                 << summary.num_init_outliers
-                << " registered outside a consensus) at their prior pose";
+                << " registered outside a consensus) at their prior pose"
+                << (options.register_pending_images
+                        ? "; " + std::to_string(held_out.size()) +
+                              " wait for image_registrator"
+                        : std::string());
     }
   }
   summary.init_seconds = SecondsSince(stage_start);
@@ -574,6 +655,15 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
     // Observations of points the triangulator dropped for an image we lack
     // cannot occur: every image of ours was in its input.
     record.num_points = static_cast<int>(model.points3D.size());
+
+    // Pending images: registered against this iteration's points; they join
+    // the triangulation from the next iteration on.
+    if (options.register_pending_images && !held_out.empty()) {
+      record.num_registered_images = RegisterPendingImages(
+          colmap, paths, options, triangulated_path,
+          JoinPaths(work_path, "registered"), priors, &held_out, &model);
+      summary.num_registered_pending += record.num_registered_images;
+    }
 
     // Lines: association with the current poses.
     const bool use_lines = !(points_only_first && iteration == 0);
@@ -711,6 +801,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
               << record.adjustment.ToString();
     summary.iterations.push_back(record);
     if (use_lines && iteration > 0 && far_images.empty() &&
+        record.num_registered_images == 0 &&
         record.max_position_change_m < options.max_position_change_m &&
         record.max_rotation_change_deg < options.max_rotation_change_deg) {
       summary.converged = true;

@@ -1,5 +1,6 @@
 #include "src/sfm/lidar_mapper.h"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <unordered_map>
@@ -235,6 +236,61 @@ TEST_F(LidarMapperTest, BrokenInitialModelFallsBackToPriors) {
   EXPECT_TRUE(RobustAlignReconstructionToPriors(
                   priors, RobustPriorAlignmentOptions(), &intact)
                   .accepted);
+}
+
+// Images the initial model lacks are pending: stock image_registrator
+// places them against the points of an iteration, and they are refined
+// with the others from then on.
+TEST_F(LidarMapperTest, PendingImagesAreRegistered) {
+  Reconstruction initial =
+      ReadReconstruction(JoinPaths(*workspace_, "sparse/refined"));
+  initial.points3D.clear();
+  initial.point3D_file_order.clear();
+  initial.lines3D.clear();
+  std::vector<std::string> dropped;
+  std::vector<Image> kept;
+  for (size_t i = 0; i < initial.images.size(); ++i) {
+    initial.images[i].points2D.clear();
+    if (i >= 6 && i < 10) {
+      dropped.push_back(initial.images[i].name);
+    } else {
+      kept.push_back(initial.images[i]);
+    }
+  }
+  initial.images = kept;
+  const std::string initial_path = JoinPaths(*root_, "partial_init");
+  WriteReconstruction(initial_path, initial, ModelFormat::kBinary);
+
+  LidarMapperOptions options;
+  options.num_threads = 2;
+  options.max_num_iterations = 2;
+  options.init_method = "model";
+  options.init_model_path = initial_path;
+  LidarMapperPaths paths;
+  paths.workspace_path = *workspace_;
+  paths.output_path = JoinPaths(*root_, "pending_out");
+  const LidarMapperSummary summary = RunLidarMapper(paths, options);
+  std::cout << summary.Format() << std::endl;
+  EXPECT_EQ(summary.init_used, "model");
+  EXPECT_EQ(summary.num_pending_images, 4);
+  EXPECT_EQ(summary.num_registered_pending, 4);
+  ASSERT_FALSE(summary.iterations.empty());
+  EXPECT_EQ(summary.iterations[0].num_registered_images, 4);
+
+  PoseEvaluationOptions sim3;
+  sim3.alignment = "sim3";
+  const PoseEvaluation evaluation =
+      EvaluatePoses(ReadReconstruction(paths.output_path),
+                    ReadPoses(JoinPaths(*dataset_, "poses_gt.txt")), sim3);
+  EXPECT_EQ(evaluation.num_matched, static_cast<size_t>(kNumFrames));
+  EXPECT_LT(evaluation.position_stats_m.mean, 0.05);
+  for (const ImagePoseError& error : evaluation.errors) {
+    if (std::find(dropped.begin(), dropped.end(), error.image_name) !=
+        dropped.end()) {
+      EXPECT_LT(error.position_error_m, 0.1) << error.image_name;
+      EXPECT_LT(error.rotation_error_deg, 1.0) << error.image_name;
+    }
+  }
 }
 
 TEST_F(LidarMapperTest, BadInputsGiveClearErrors) {
