@@ -155,11 +155,10 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "[0, 1].");
   options->AddOption(s + "register_pending_images",
                      &o->register_pending_images,
-                     "Images no accepted initial model placed are "
+                     "Images the mapper registered outside a consensus are "
                      "registered by stock image_registrator against each "
                      "iteration's points (pose kept if within its prior's "
-                     "99.9 % region) instead of joining at their prior "
-                     "pose, 0/1.");
+                     "99.9 % region) instead of staying out, 0/1.");
   options->AddOption(s + "max_num_iterations", &o->max_num_iterations,
                      "Triangulate / associate / adjust rounds, >= 1.");
   options->AddOption(s + "max_position_change_m", &o->max_position_change_m,

@@ -36,12 +36,12 @@
 //   orientation against the prior sigmas). It is rejected, with a WARNING,
 //   unless the consensus holds init_min_num_inliers images and
 //   init_min_inlier_ratio of the registered ones and both halves of it
-//   agree on the scale; the run then continues as "priors". Images outside
-//   the consensus (registered elsewhere, or not at all) are pending: out of
-//   the triangulation and the association, registered by stock
+//   agree on the scale; the run then continues as "priors". Images the
+//   mapper registered outside a consensus are pending: out of the
+//   triangulation and the association, registered by stock
 //   `image_registrator` against each iteration's points and taken when the
-//   pose lies in the 99.9 % region of their prior (register_pending_images;
-//   without it they join at their prior pose).
+//   pose lies in the 99.9 % region of their prior (register_pending_images).
+//   Images no model registered start at their prior pose.
 // - After each adjustment every pose is compared with its prior (centre
 //   and rotation angle against the prior sigmas). When more than
 //   max_prior_outlier_ratio of the images (and more than before) leave the
@@ -115,13 +115,14 @@ struct LidarMapperOptions {
   // wrong (sim3 error of metres, flipped cameras), so do not lower them.
   int mapper_abs_pose_min_num_inliers = 30;
   double mapper_abs_pose_min_inlier_ratio = 0.25;
-  // Images that no accepted initial model placed (registered outside a
-  // consensus, or not registered at all) stay out of the triangulation and
-  // the association and are registered in each iteration by stock
+  // Images registered outside a consensus of the initial models stay out of
+  // the triangulation and the association (their poses are wrong and
+  // dragged the model) and are registered in each iteration by stock
   // `image_registrator` (PnP on the matches to the triangulated points,
   // with the Mapper.abs_pose_* above) against the current model; a pose
   // inside the 99.9 % region of its prior is taken, the image then joins.
-  // Off: they join at their prior pose (the behaviour of "priors").
+  // Off: they stay out for good. (Images no model registered join at their
+  // prior pose from the start.)
   bool register_pending_images = true;
 
   // ---- Iterations.
@@ -192,9 +193,9 @@ struct LidarMapperSummary {
   std::string init_used;
   // RobustPriorAlignmentSummary::Format() of the initial model.
   std::string init_alignment;
-  // Images no accepted initial model placed, and how many of them the
+  // Images registered outside a consensus, and how many of them the
   // iterations registered (register_pending_images); the rest keep their
-  // prior pose.
+  // prior pose, out of the adjustment.
   int num_pending_images = 0;
   int num_registered_pending = 0;
   // Registered images of the initial model outside the consensus (they

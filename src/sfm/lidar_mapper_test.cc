@@ -238,9 +238,10 @@ TEST_F(LidarMapperTest, BrokenInitialModelFallsBackToPriors) {
                   .accepted);
 }
 
-// Images the initial model lacks are pending: stock image_registrator
-// places them against the points of an iteration, and they are refined
-// with the others from then on.
+// Images an initial model holds at wrong poses (outside the consensus with
+// the priors) are pending: stock image_registrator places them against the
+// points of an iteration, and they are refined with the others from then
+// on.
 TEST_F(LidarMapperTest, PendingImagesAreRegistered) {
   Reconstruction initial =
       ReadReconstruction(JoinPaths(*workspace_, "sparse/refined"));
@@ -248,16 +249,21 @@ TEST_F(LidarMapperTest, PendingImagesAreRegistered) {
   initial.point3D_file_order.clear();
   initial.lines3D.clear();
   std::vector<std::string> dropped;
-  std::vector<Image> kept;
   for (size_t i = 0; i < initial.images.size(); ++i) {
-    initial.images[i].points2D.clear();
+    Image& image = initial.images[i];
+    image.points2D.clear();
     if (i >= 6 && i < 10) {
-      dropped.push_back(initial.images[i].name);
-    } else {
-      kept.push_back(initial.images[i]);
+      // 4 m off and turned by 40 degrees: far outside the prior noise.
+      dropped.push_back(image.name);
+      const Eigen::Quaterniond turn(
+          Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()));
+      const Eigen::Vector3d centre =
+          image.ProjectionCenter() + Eigen::Vector3d(4.0, 0.0, 0.0);
+      const Eigen::Quaterniond rotation =
+          (turn * image.cam_from_world.rotation).normalized();
+      image.cam_from_world = Rigid3d(rotation, -(rotation * centre));
     }
   }
-  initial.images = kept;
   const std::string initial_path = JoinPaths(*root_, "partial_init");
   WriteReconstruction(initial_path, initial, ModelFormat::kBinary);
 
