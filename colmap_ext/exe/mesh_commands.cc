@@ -38,6 +38,10 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      &input->lidar_count_mapping,
                      "g(count) of a LIDAR voxel: none (1) | linear (count) "
                      "| log (1 + ln count).");
+  options->AddOption("DelaunayMeshing.max_lidar_rays_per_point",
+                     &input->max_lidar_rays_per_point,
+                     "Rays of a LIDAR voxel from at most this many of its "
+                     "frames, the nearest scanner positions; 0: all.");
   options->AddOption("DelaunayMeshing.line_weight", &input->line_weight,
                      "Weight of each ray of a 3D line sample, >= 0.");
   options->AddOption("DelaunayMeshing.line_sample_step_m",

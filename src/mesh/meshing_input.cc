@@ -1,5 +1,6 @@
 #include "src/mesh/meshing_input.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <map>
@@ -79,6 +80,10 @@ bool MeshingInputOptions::Check() const {
     LidarCountMappingFromString(lidar_count_mapping);
   } catch (const Error& error) {
     LOG(ERROR) << "MeshingInput.lidar_count_mapping: " << error.what();
+    return false;
+  }
+  if (max_lidar_rays_per_point < 0) {
+    LOG(ERROR) << "MeshingInput.max_lidar_rays_per_point must be >= 0";
     return false;
   }
   if (!(line_weight >= 0)) {
@@ -233,6 +238,22 @@ void AddLidarPoints(const MeshingInputOptions& options,
         input->sensors.push_back(sensor);
       }
       sensor_indices.push_back(sensor_of_frame[frame]);
+    }
+    const size_t max_rays =
+        static_cast<size_t>(options.max_lidar_rays_per_point);
+    if (max_rays > 0 && sensor_indices.size() > max_rays) {
+      const Eigen::Vector3d& position = positions[i];
+      const auto distance = [&](uint32_t sensor) {
+        return (input->sensors[sensor].position_in_world - position)
+            .squaredNorm();
+      };
+      std::partial_sort(sensor_indices.begin(),
+                        sensor_indices.begin() + max_rays,
+                        sensor_indices.end(),
+                        [&](uint32_t a, uint32_t b) {
+                          return distance(a) < distance(b);
+                        });
+      sensor_indices.resize(max_rays);
     }
     const double count = std::max<uint32_t>(counts[i], 1);
     double total_weight = options.lidar_weight;

@@ -76,6 +76,12 @@ struct MeshingInputOptions {
   // ("linear", every raw return is one ray) or 1 + ln(count) ("log").
   double lidar_weight = 1.0;
   std::string lidar_count_mapping = "log";
+  // Rays of a LIDAR voxel: from at most this many of the frames that saw it,
+  // the nearest scanner positions (the shortest rays, the least grazing),
+  // carrying its whole weight; 0 keeps all. A voxel of the default scene is
+  // seen by about 9 of the 60 360-degree scans: casting all of them was 80 %
+  // of the meshing time.
+  int max_lidar_rays_per_point = 3;
   // Weight of each ray of a line sample.
   double line_weight = 1.0;
   // Spacing of the samples along a 3D segment, metres (> 0); both end points

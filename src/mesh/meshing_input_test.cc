@@ -108,6 +108,32 @@ TEST_F(MeshingInputTest, ReadsVisualLidarAndLines) {
   EXPECT_EQ(ReadMeshingInput(options, workspace_).NumPoints(MeshingPointSource::kVisual), 0u);
 }
 
+// With a cap of one ray, a LIDAR voxel keeps the ray from its nearest
+// scanner position, with the voxel's whole weight.
+TEST_F(MeshingInputTest, LidarRaysCappedToTheNearestScanners) {
+  MeshingInputOptions options;
+  options.use_visual = false;
+  options.max_lidar_rays_per_point = 1;
+  const MeshingInput input = ReadMeshingInput(options, workspace_);
+  ASSERT_EQ(input.positions.size(), lidar_.positions.size());
+  size_t num_multi_frame = 0;
+  for (size_t i = 0; i < input.positions.size(); ++i) {
+    ASSERT_EQ(input.visibility[i].size(), 1u) << i;
+    const double kept = (input.sensors[input.visibility[i][0]]
+                             .position_in_world - input.positions[i])
+                            .norm();
+    for (const uint32_t frame : lidar_.frames[i]) {
+      EXPECT_LE(kept, (scene_->LidarOrigin(frame) - input.positions[i])
+                          .norm() + 1e-9);
+    }
+    num_multi_frame += lidar_.frames[i].size() > 1 ? 1 : 0;
+    EXPECT_NEAR(input.ray_weights[i], 1 + std::log(lidar_.counts[i]), 1e-5);
+  }
+  EXPECT_GT(num_multi_frame, 0u);
+  options.max_lidar_rays_per_point = -1;
+  EXPECT_FALSE(options.Check());
+}
+
 TEST_F(MeshingInputTest, ErrorsNameTheFile) {
   const MeshingInputOptions options;
   // A .vis file with one entry too many.
