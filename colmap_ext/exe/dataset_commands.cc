@@ -30,6 +30,11 @@ void AddImporterOptions(ImporterOptions* importer, OptionManager* options) {
                      "Replace the LIDAR rows, priors and copied files of "
                      "frames imported before; if false, importing a frame twice "
                      "is an error.");
+  options->AddOption("LidarImport.calibrate_matched_images",
+                     &importer->calibrate_matched_images,
+                     "Existing images matched to frames take the "
+                     "calibrated camera when theirs differs (same image "
+                     "size); keypoints stay valid.");
   options->AddCheck([importer] { return importer->Check(); });
 }
 

@@ -158,6 +158,17 @@ ImportSummary ImportDataset(const std::string& dataset_path,
     }
   }
 
+  // The recording's camera, written on first use.
+  const auto recording_camera_id = [&]() {
+    if (camera_id == kInvalidCameraId) {
+      Camera new_camera = camera;
+      camera_id = database.WriteCamera(new_camera);
+      new_camera.camera_id = camera_id;
+      cameras.emplace(camera_id, new_camera);
+    }
+    return camera_id;
+  };
+
   Reconstruction prior_model;
   for (size_t i = 0; i < recording.frames.size(); ++i) {
     const RecordingFrame& frame = recording.frames[i];
@@ -175,15 +186,21 @@ ImportSummary ImportDataset(const std::string& dataset_path,
                             << summary.database_path
                             << "; pass --LidarImport.overwrite 1 to replace it");
       ++summary.num_matched_images;
-    } else {
-      if (camera_id == kInvalidCameraId) {
-        Camera new_camera = camera;
-        camera_id = database.WriteCamera(new_camera);
-        new_camera.camera_id = camera_id;
-        cameras.emplace(camera_id, new_camera);
+      const Camera& current = cameras.at(image.camera_id);
+      if (options.calibrate_matched_images && !SameCamera(current, camera)) {
+        if (current.width == camera.width && current.height == camera.height) {
+          image.camera_id = recording_camera_id();
+          ++summary.num_recalibrated_images;
+        } else {
+          LOG(WARNING) << "Image " << image.name << " keeps its camera "
+                       << current.camera_id << ": " << current.width << "x"
+                       << current.height << " pixels, the calibration is for "
+                       << camera.width << "x" << camera.height;
+        }
       }
+    } else {
+      image.camera_id = recording_camera_id();
       image.name = image_file;
-      image.camera_id = camera_id;
       ++summary.num_new_images;
     }
 
@@ -273,7 +290,8 @@ std::string FormatImportSummary(const ImportSummary& summary) {
   out << "Imported " << summary.num_frames << " frames (" << summary.dataset_format
       << " recording)\n"
       << "  new images:         " << summary.num_new_images << "\n"
-      << "  matched images:     " << summary.num_matched_images << "\n"
+      << "  matched images:     " << summary.num_matched_images << " ("
+      << summary.num_recalibrated_images << " moved to the calibrated camera)\n"
       << "  frames with prior:  " << summary.num_frames_with_prior << "\n"
       << "  LIDAR points:       " << summary.num_lidar_points << "\n"
       << "  database:           " << summary.database_path << "\n"

@@ -15,8 +15,9 @@
 //
 // A database that already holds images (a stock COLMAP workspace) is
 // completed: frames are matched to images by name (exact, else a unique
-// image with the same file stem) and only the prior columns and our tables
-// change; features and matches are never touched. Frames with no match are
+// image with the same file stem) and only the prior columns, the camera
+// (calibrate_matched_images) and our tables change; features and matches
+// are never touched. Frames with no match are
 // added as new images.
 //
 // All database changes happen in one transaction and all files are staged
@@ -42,6 +43,11 @@ struct ImporterOptions {
   // Replace the LIDAR rows, priors and copied files of frames imported
   // before; otherwise importing a frame twice is an error.
   bool overwrite = false;
+  // Existing images matched to frames take the recording's calibrated
+  // camera when theirs differs but has the same image size (stock
+  // feature_extractor guesses a SIMPLE_RADIAL camera from the image size;
+  // keypoints are pixel positions and stay valid). Off: they keep theirs.
+  bool calibrate_matched_images = true;
 
   bool Check() const;
 };
@@ -51,6 +57,8 @@ struct ImportSummary {
   int num_frames = 0;
   int num_new_images = 0;
   int num_matched_images = 0;
+  // Matched images moved to the calibrated camera.
+  int num_recalibrated_images = 0;
   int num_frames_with_prior = 0;
   uint64_t num_lidar_points = 0;
   std::string database_path;

@@ -9,6 +9,7 @@
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/testing.h"
+#include "src/dataset/calibration.h"
 #include "src/dataset/dataset_test_util.h"
 #include "src/dataset/poses.h"
 
@@ -153,11 +154,20 @@ TEST_F(ImporterTest, CompletesAnExistingColmapWorkspace) {
   const ImportSummary summary = ImportDataset(dataset_, workspace_, "", ImporterOptions());
   EXPECT_EQ(summary.num_matched_images, kNumFrames);
   EXPECT_EQ(summary.num_new_images, 0);
+  // Stock feature_extractor guessed a SIMPLE_RADIAL camera; the images now
+  // use the calibrated one.
+  EXPECT_EQ(summary.num_recalibrated_images, kNumFrames);
+  const Camera calibrated =
+      ReadCalibration(JoinPaths(dataset_, "calibration.yaml")).camera;
   Database database(db);
   const std::vector<DatabaseImage> images = database.ReadAllImages();
   ASSERT_EQ(images.size(), static_cast<size_t>(kNumFrames));
   for (const DatabaseImage& image : images) {
     EXPECT_EQ(ids_before.at(image.name), image.image_id);
+    const std::optional<Camera> camera = database.ReadCamera(image.camera_id);
+    ASSERT_TRUE(camera.has_value());
+    EXPECT_EQ(camera->model_id, calibrated.model_id);
+    EXPECT_EQ(camera->params, calibrated.params);
     EXPECT_EQ(database.NumKeypointsForImage(image.image_id),
               keypoints_before.at(image.image_id));
     EXPECT_TRUE(image.prior_t.has_value());

@@ -103,7 +103,8 @@ std::string RunImportStage(const PipelineContext& context) {
   std::ostringstream note;
   note << summary.num_frames << " frames (" << summary.dataset_format << "), "
        << summary.num_new_images << " new images, "
-       << summary.num_matched_images << " matched, "
+       << summary.num_matched_images << " matched ("
+       << summary.num_recalibrated_images << " moved to the calibrated camera), "
        << summary.num_frames_with_prior << " with priors";
   return note.str();
 }

@@ -2,14 +2,21 @@
 // colmap binary, checked against bounds; resumption; bad input.
 #include "src/pipeline/automatic_reconstructor.h"
 
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/database/database.h"
+#include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/testing.h"
+#include "src/dataset/poses.h"
+#include "src/eval/pose_evaluator.h"
+#include "src/synth/synthesize.h"
 
 namespace colmap_lidar {
 namespace {
@@ -145,6 +152,70 @@ TEST(AutomaticReconstructor, SmallSceneEndToEnd) {
   EXPECT_FALSE(ExistsFile(paths.StageMark(PipelineStage::kEvaluate)));
   EXPECT_FALSE(ExistsFile(paths.StageMark(PipelineStage::kReport)));
   EXPECT_TRUE(ExistsFile(paths.StageMark(PipelineStage::kFusion)));
+}
+
+// A workspace made by stock COLMAP (images, features, matches) plus a
+// recording with the LIDAR and the calibration: the pipeline adds what is
+// missing and keeps the stock features.
+TEST(AutomaticReconstructor, CompletesAStockColmapWorkspace) {
+  const std::string dir = testing::CreateTestDir();
+  AutomaticReconstructorOptions options = SmallSceneOptions();
+  options.dataset_path = JoinPaths(dir, "dataset");
+  SynthesizeDataset(options.synthesis, options.dataset_path);
+  const std::string workspace = JoinPaths(dir, "workspace");
+  const std::string images = JoinPaths(workspace, "images");
+  CreateDirIfNotExists(workspace);
+  std::filesystem::copy(JoinPaths(options.dataset_path, "images"), images);
+  const std::string database_path = JoinPaths(workspace, "database.db");
+  const std::string log = JoinPaths(dir, "colmap.log");
+  ASSERT_EQ(testing::RunCommand(
+                "colmap feature_extractor --database_path '" + database_path +
+                    "' --image_path '" + images +
+                    "' --SiftExtraction.use_gpu 0 --SiftExtraction.num_threads 2",
+                log),
+            0)
+      << ReadTextFile(log);
+  ASSERT_EQ(testing::RunCommand("colmap sequential_matcher --database_path '" +
+                                    database_path +
+                                    "' --SiftMatching.use_gpu 0 "
+                                    "--SiftMatching.num_threads 2",
+                                log),
+            0)
+      << ReadTextFile(log);
+  std::map<image_t, size_t> keypoints_before;
+  {
+    Database database(database_path);
+    for (const DatabaseImage& image : database.ReadAllImages()) {
+      keypoints_before[image.image_id] =
+          database.NumKeypointsForImage(image.image_id);
+    }
+  }
+  ASSERT_EQ(keypoints_before.size(), 12u);
+
+  options.stages = "import:sfm";
+  const AutomaticReconstructorSummary summary =
+      RunAutomaticReconstructor(workspace, options);
+  ASSERT_EQ(summary.ran.size(), 2u);
+  EXPECT_EQ(summary.ran[0].stage, "import");
+  EXPECT_EQ(summary.ran[1].stage, "sfm");
+  {
+    Database database(database_path);
+    const std::vector<DatabaseImage> database_images = database.ReadAllImages();
+    ASSERT_EQ(database_images.size(), 12u);
+    for (const DatabaseImage& image : database_images) {
+      EXPECT_EQ(database.NumKeypointsForImage(image.image_id),
+                keypoints_before.at(image.image_id))
+          << image.name;
+      EXPECT_TRUE(image.prior_t.has_value()) << image.name;
+    }
+  }
+  PoseEvaluationOptions sim3;
+  sim3.alignment = "sim3";
+  const PoseEvaluation evaluation = EvaluatePoses(
+      ReadReconstruction(PipelinePaths(workspace).refined_model),
+      ReadPoses(JoinPaths(options.dataset_path, "poses_gt.txt")), sim3);
+  EXPECT_EQ(evaluation.num_matched, 12u);
+  EXPECT_LT(evaluation.position_stats_m.mean, 0.05);
 }
 
 TEST(AutomaticReconstructor, BadInputIsReportedAndLeavesNoMark) {
