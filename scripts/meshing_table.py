@@ -22,6 +22,7 @@
       mesh_MiB<TAB>total_s".
 """
 import json
+import os
 import sys
 
 import numpy as np
@@ -130,40 +131,13 @@ def poisson_trim(src, dst, quantile):
           f'{len(faces)} faces, {len(used)} vertices -> {dst}')
 
 
-def render_view(ax, path, title, azimuth_deg=225.0, elevation_deg=45.0,
-                width=900, bounds=None):
+def render_view(ax, path, title, bounds=None):
+    # The report's renderer (src/pipeline/report.py), from a 45-degree view.
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                    '..', 'src', 'pipeline'))
+    from report import splat_view
     vertices, _ = read_ply(path)
-    xyz = np.stack([vertices['x'], vertices['y'], vertices['z']], 1)
-    rgb = np.stack([vertices['red'], vertices['green'], vertices['blue']], 1)
-    az, el = np.radians(azimuth_deg), np.radians(elevation_deg)
-    # Camera looking along -forward; right is horizontal, up completes it.
-    forward = np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az),
-                        np.sin(el)])
-    right = np.array([-np.sin(az), np.cos(az), 0.0])
-    up = np.cross(forward, right)
-    u, v, depth = xyz @ right, xyz @ up, xyz @ forward
-    if bounds is None:
-        bounds = (np.percentile(u, 0.5), np.percentile(u, 99.5),
-                  np.percentile(v, 0.5), np.percentile(v, 99.5))
-    u0, u1, v0, v1 = bounds
-    scale = (width - 1) / max(u1 - u0, 1e-9)
-    height = int((v1 - v0) * scale) + 1
-    col = np.round((u - u0) * scale).astype(np.int64)
-    row = np.round((v1 - v) * scale).astype(np.int64)
-    image = np.full((height, width, 3), 255, dtype=np.uint8)
-    zbuf = np.full((height, width), -np.inf)
-    order = np.argsort(depth)  # Far first, so nearer points overwrite.
-    for dr in (0, 1):  # 2x2 splats close the gaps between samples.
-        for dc in (0, 1):
-            r, c = row[order] + dr, col[order] + dc
-            ok = (r >= 0) & (r < height) & (c >= 0) & (c < width)
-            r, c, idx = r[ok], c[ok], order[ok]
-            image[r, c] = rgb[idx]
-            zbuf[r, c] = depth[idx]
-    ax.imshow(image)
-    ax.set_title(title, fontsize=9)
-    ax.axis('off')
-    return bounds
+    return splat_view(ax, vertices, title, bounds=bounds, elevation_deg=45.0)
 
 
 def render(est_path, ref_path, out_png, title):
