@@ -7,6 +7,8 @@
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include <sys/resource.h>
 
@@ -76,6 +78,23 @@ std::string ThreadsArg(int num_threads) {
   return std::to_string(num_threads <= 0 ? -1 : num_threads);
 }
 
+// The Mapper.* options of stock `mapper` and `image_registrator`: the
+// calibrated intrinsics stay fixed, lidar_mapper's PnP thresholds.
+void AppendStockMapperArgs(
+    const LidarMapperOptions& options,
+    std::vector<std::pair<std::string, std::string>>* args) {
+  args->insert(
+      args->end(),
+      {{"Mapper.ba_refine_focal_length", "0"},
+       {"Mapper.ba_refine_principal_point", "0"},
+       {"Mapper.ba_refine_extra_params", "0"},
+       {"Mapper.abs_pose_min_num_inliers",
+        std::to_string(options.mapper_abs_pose_min_num_inliers)},
+       {"Mapper.abs_pose_min_inlier_ratio",
+        std::to_string(options.mapper_abs_pose_min_inlier_ratio)},
+       {"Mapper.num_threads", ThreadsArg(options.num_threads)}});
+}
+
 // Registers the images of `pending` (absent from the model at
 // `model_path`) with stock image_registrator and takes each registered pose
 // that lies inside the 99.9 % region of its prior; those images leave
@@ -93,18 +112,12 @@ int RegisterPendingImages(const ColmapRunner& colmap,
   CreateDirIfNotExists(output_path);
   Reconstruction registered;
   try {
-    colmap.Run("image_registrator",
-               {{"database_path", paths.database_path},
-                {"input_path", model_path},
-                {"output_path", output_path},
-                {"Mapper.ba_refine_focal_length", "0"},
-                {"Mapper.ba_refine_principal_point", "0"},
-                {"Mapper.ba_refine_extra_params", "0"},
-                {"Mapper.abs_pose_min_num_inliers",
-                 std::to_string(options.mapper_abs_pose_min_num_inliers)},
-                {"Mapper.abs_pose_min_inlier_ratio",
-                 std::to_string(options.mapper_abs_pose_min_inlier_ratio)},
-                {"Mapper.num_threads", ThreadsArg(options.num_threads)}});
+    std::vector<std::pair<std::string, std::string>> args = {
+        {"database_path", paths.database_path},
+        {"input_path", model_path},
+        {"output_path", output_path}};
+    AppendStockMapperArgs(options, &args);
+    colmap.Run("image_registrator", args);
     registered = ReadReconstruction(output_path);
   } catch (const Error& error) {
     LOG(WARNING) << "lidar_mapper: image_registrator failed (" << error.what()
@@ -485,19 +498,12 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
       CreateDirIfNotExists(mapper_path);
       LOG(INFO) << "lidar_mapper: stock mapper for the initial poses";
       try {
-        colmap.Run(
-            "mapper",
-            {{"database_path", paths.database_path},
-             {"image_path", paths.image_path},
-             {"output_path", mapper_path},
-             {"Mapper.ba_refine_focal_length", "0"},
-             {"Mapper.ba_refine_principal_point", "0"},
-             {"Mapper.ba_refine_extra_params", "0"},
-             {"Mapper.abs_pose_min_num_inliers",
-              std::to_string(options.mapper_abs_pose_min_num_inliers)},
-             {"Mapper.abs_pose_min_inlier_ratio",
-              std::to_string(options.mapper_abs_pose_min_inlier_ratio)},
-             {"Mapper.num_threads", threads}});
+        std::vector<std::pair<std::string, std::string>> args = {
+            {"database_path", paths.database_path},
+            {"image_path", paths.image_path},
+            {"output_path", mapper_path}};
+        AppendStockMapperArgs(options, &args);
+        colmap.Run("mapper", args);
         candidates = ReadMapperModels(mapper_path);
       } catch (const Error& error) {
         LOG(WARNING) << "lidar_mapper: stock mapper failed (" << error.what()

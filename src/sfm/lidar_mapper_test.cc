@@ -77,6 +77,29 @@ class LidarMapperTest : public ::testing::Test {
     delete root_;
   }
 
+  // Writes `initial` to <root>/<name>_init and runs lidar_mapper from it
+  // (init_method "model") into <root>/<name>_out.
+  static LidarMapperSummary RunFromInitialModel(const Reconstruction& initial,
+                                                const std::string& name,
+                                                int max_num_iterations) {
+    const std::string initial_path = JoinPaths(*root_, name + "_init");
+    WriteReconstruction(initial_path, initial, ModelFormat::kBinary);
+    LidarMapperOptions options;
+    options.num_threads = 2;
+    options.max_num_iterations = max_num_iterations;
+    options.init_method = "model";
+    options.init_model_path = initial_path;
+    LidarMapperPaths paths;
+    paths.workspace_path = *workspace_;
+    paths.output_path = OutputOf(name);
+    const LidarMapperSummary summary = RunLidarMapper(paths, options);
+    std::cout << summary.Format() << std::endl;
+    return summary;
+  }
+  static std::string OutputOf(const std::string& name) {
+    return JoinPaths(*root_, name + "_out");
+  }
+
   static std::string Binary() {
     return JoinPaths(testing::BinaryDir(), "colmap-lidar");
   }
@@ -195,19 +218,8 @@ TEST_F(LidarMapperTest, BrokenInitialModelFallsBackToPriors) {
     image.cam_from_world = Rigid3d(
         rotation, -(rotation * (mirror * world_from_cam.translation)));
   }
-  const std::string broken_path = JoinPaths(*root_, "broken_init");
-  WriteReconstruction(broken_path, broken, ModelFormat::kBinary);
-
-  LidarMapperOptions options;
-  options.num_threads = 2;
-  options.max_num_iterations = 1;
-  options.init_method = "model";
-  options.init_model_path = broken_path;
-  LidarMapperPaths paths;
-  paths.workspace_path = *workspace_;
-  paths.output_path = JoinPaths(*root_, "broken_out");
-  const LidarMapperSummary summary = RunLidarMapper(paths, options);
-  std::cout << summary.Format() << std::endl;
+  const LidarMapperSummary summary =
+      RunFromInitialModel(broken, "broken", /*max_num_iterations=*/1);
   EXPECT_EQ(summary.init_used, "priors (fallback)");
   EXPECT_NE(summary.init_alignment.find("rejected"), std::string::npos);
   ASSERT_EQ(summary.iterations.size(), 1u);
@@ -218,7 +230,7 @@ TEST_F(LidarMapperTest, BrokenInitialModelFallsBackToPriors) {
   const double prior_error = MeanPositionErrorNoAlignment(
       ReadReconstruction(JoinPaths(*workspace_, "sparse/prior")), gt);
   EXPECT_LT(MeanPositionErrorNoAlignment(
-                ReadReconstruction(paths.output_path), gt),
+                ReadReconstruction(OutputOf("broken")), gt),
             1.05 * prior_error);
 
   // The same model unbroken is accepted.
@@ -264,19 +276,8 @@ TEST_F(LidarMapperTest, PendingImagesAreRegistered) {
       image.cam_from_world = Rigid3d(rotation, -(rotation * centre));
     }
   }
-  const std::string initial_path = JoinPaths(*root_, "partial_init");
-  WriteReconstruction(initial_path, initial, ModelFormat::kBinary);
-
-  LidarMapperOptions options;
-  options.num_threads = 2;
-  options.max_num_iterations = 2;
-  options.init_method = "model";
-  options.init_model_path = initial_path;
-  LidarMapperPaths paths;
-  paths.workspace_path = *workspace_;
-  paths.output_path = JoinPaths(*root_, "pending_out");
-  const LidarMapperSummary summary = RunLidarMapper(paths, options);
-  std::cout << summary.Format() << std::endl;
+  const LidarMapperSummary summary =
+      RunFromInitialModel(initial, "pending", /*max_num_iterations=*/2);
   EXPECT_EQ(summary.init_used, "model");
   EXPECT_EQ(summary.num_pending_images, 4);
   EXPECT_EQ(summary.num_registered_pending, 4);
@@ -286,7 +287,7 @@ TEST_F(LidarMapperTest, PendingImagesAreRegistered) {
   PoseEvaluationOptions sim3;
   sim3.alignment = "sim3";
   const PoseEvaluation evaluation =
-      EvaluatePoses(ReadReconstruction(paths.output_path),
+      EvaluatePoses(ReadReconstruction(OutputOf("pending")),
                     ReadPoses(JoinPaths(*dataset_, "poses_gt.txt")), sim3);
   EXPECT_EQ(evaluation.num_matched, static_cast<size_t>(kNumFrames));
   EXPECT_LT(evaluation.position_stats_m.mean, 0.05);
