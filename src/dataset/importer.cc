@@ -186,7 +186,12 @@ ImportSummary ImportDataset(const std::string& dataset_path,
                             << summary.database_path
                             << "; pass --LidarImport.overwrite 1 to replace it");
       ++summary.num_matched_images;
-      const Camera& current = cameras.at(image.camera_id);
+      const auto current_it = cameras.find(image.camera_id);
+      THROW_CHECK(current_it != cameras.end(),
+                  "Image " << image.name << " of " << summary.database_path
+                           << " refers to camera " << image.camera_id
+                           << ", which the database lacks");
+      const Camera& current = current_it->second;
       if (options.calibrate_matched_images && !SameCamera(current, camera)) {
         if (current.width == camera.width && current.height == camera.height) {
           image.camera_id = recording_camera_id();
