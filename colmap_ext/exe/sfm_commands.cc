@@ -153,6 +153,9 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      &o->mapper_abs_pose_min_inlier_ratio,
                      "Stock mapper's Mapper.abs_pose_min_inlier_ratio, "
                      "[0, 1].");
+  options->AddOption(s + "mapper_num_attempts", &o->mapper_num_attempts,
+                     "Stock mapper runs (random seeds 0, 1, ...) until one "
+                     "model agrees with the priors, >= 1.");
   options->AddOption(s + "register_pending_images",
                      &o->register_pending_images,
                      "Images the mapper registered outside a consensus are "

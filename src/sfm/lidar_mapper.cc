@@ -232,6 +232,7 @@ bool LidarMapperOptions::Check() const {
   LIDAR_MAPPER_CHECK(max_prior_outlier_ratio >= 0.0 &&
                          max_prior_outlier_ratio <= 1.0,
                      max_prior_outlier_ratio);
+  LIDAR_MAPPER_CHECK(mapper_num_attempts >= 1, mapper_num_attempts);
   LIDAR_MAPPER_CHECK(mapper_abs_pose_min_num_inliers > 0,
                      mapper_abs_pose_min_num_inliers);
   LIDAR_MAPPER_CHECK(mapper_abs_pose_min_inlier_ratio >= 0.0 &&
@@ -486,30 +487,6 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
   summary.init_used = options.init_method;
   summary.num_initial_images = static_cast<int>(model.images.size());
   if (options.init_method != "priors") {
-    std::vector<Reconstruction> candidates;
-    if (options.init_method == "model") {
-      THROW_CHECK(ExistsModel(options.init_model_path),
-                  "lidar_mapper: init_model_path "
-                      << options.init_model_path << " holds no sparse model");
-      candidates.push_back(ReadReconstruction(options.init_model_path));
-    } else {
-      const std::string mapper_path = JoinPaths(work_path, "mapper");
-      std::filesystem::remove_all(mapper_path);
-      CreateDirIfNotExists(mapper_path);
-      LOG(INFO) << "lidar_mapper: stock mapper for the initial poses";
-      try {
-        std::vector<std::pair<std::string, std::string>> args = {
-            {"database_path", paths.database_path},
-            {"image_path", paths.image_path},
-            {"output_path", mapper_path}};
-        AppendStockMapperArgs(options, &args);
-        colmap.Run("mapper", args);
-        candidates = ReadMapperModels(mapper_path);
-      } catch (const Error& error) {
-        LOG(WARNING) << "lidar_mapper: stock mapper failed (" << error.what()
-                     << ")";
-      }
-    }
     // Each model (stock mapper may write several, e.g. split where the walk
     // turns on the spot) is aligned robustly on its own. Accepted models
     // give their consensus images, the largest consensus first (an image
@@ -519,15 +496,61 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
     alignment_options.rotation_sigma_deg = options.prior_rotation_sigma_deg;
     alignment_options.min_num_inliers = options.init_min_num_inliers;
     alignment_options.min_inlier_ratio = options.init_min_inlier_ratio;
+    std::vector<Reconstruction> candidates;
     std::vector<RobustPriorAlignmentSummary> alignments;
     int num_registered = 0;
-    for (Reconstruction& candidate : candidates) {
-      num_registered += static_cast<int>(candidate.images.size());
-      alignments.push_back(RobustAlignReconstructionToPriors(
-          priors, alignment_options, &candidate));
-      LOG(INFO) << "lidar_mapper: initial model of "
-                << candidate.images.size()
-                << " images: " << alignments.back().Format();
+    // Stock mapper is randomised: a run that gives no acceptable model (on
+    // small scenes one in a few builds a broken one, cameras turned by
+    // 100 degrees) is repeated with another random seed.
+    const int num_attempts =
+        options.init_method == "model" ? 1 : options.mapper_num_attempts;
+    for (int attempt = 0; attempt < num_attempts; ++attempt) {
+      candidates.clear();
+      alignments.clear();
+      num_registered = 0;
+      if (options.init_method == "model") {
+        THROW_CHECK(ExistsModel(options.init_model_path),
+                    "lidar_mapper: init_model_path "
+                        << options.init_model_path
+                        << " holds no sparse model");
+        candidates.push_back(ReadReconstruction(options.init_model_path));
+      } else {
+        const std::string mapper_path = JoinPaths(work_path, "mapper");
+        std::filesystem::remove_all(mapper_path);
+        CreateDirIfNotExists(mapper_path);
+        LOG(INFO) << "lidar_mapper: stock mapper for the initial poses"
+                  << " (random seed " << attempt << ")";
+        try {
+          std::vector<std::pair<std::string, std::string>> args = {
+              {"database_path", paths.database_path},
+              {"image_path", paths.image_path},
+              {"output_path", mapper_path},
+              {"random_seed", std::to_string(attempt)}};
+          AppendStockMapperArgs(options, &args);
+          colmap.Run("mapper", args);
+          candidates = ReadMapperModels(mapper_path);
+        } catch (const Error& error) {
+          LOG(WARNING) << "lidar_mapper: stock mapper failed (" << error.what()
+                       << ")";
+        }
+      }
+      bool any_accepted = false;
+      for (Reconstruction& candidate : candidates) {
+        num_registered += static_cast<int>(candidate.images.size());
+        alignments.push_back(RobustAlignReconstructionToPriors(
+            priors, alignment_options, &candidate));
+        any_accepted = any_accepted || alignments.back().accepted;
+        LOG(INFO) << "lidar_mapper: initial model of "
+                  << candidate.images.size()
+                  << " images: " << alignments.back().Format();
+      }
+      if (any_accepted) {
+        break;
+      }
+      if (attempt + 1 < num_attempts) {
+        LOG(WARNING) << "lidar_mapper: no stock mapper model agrees with the "
+                        "priors; running stock mapper again";
+      }
     }
     std::vector<size_t> order(candidates.size());
     std::iota(order.begin(), order.end(), 0);

@@ -115,6 +115,9 @@ struct LidarMapperOptions {
   // wrong (sim3 error of metres, flipped cameras), so do not lower them.
   int mapper_abs_pose_min_num_inliers = 30;
   double mapper_abs_pose_min_inlier_ratio = 0.25;
+  // Stock mapper runs (random seeds 0, 1, ...) until one gives a model the
+  // prior alignment accepts, >= 1.
+  int mapper_num_attempts = 3;
   // Images registered outside a consensus of the initial models stay out of
   // the triangulation and the association (their poses are wrong and
   // dragged the model) and are registered in each iteration by stock
