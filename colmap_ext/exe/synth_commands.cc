@@ -36,8 +36,24 @@ void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
                      "Image height in pixels, >= 8.");
   options->AddOption("Synthesis.horizontal_fov_deg",
                      &synth->horizontal_fov_deg,
-                     "Horizontal field of view of the PINHOLE camera, "
-                     "degrees in (0, 170).");
+                     "Horizontal field of view of the undistorted pinhole "
+                     "that gives the focal length f = (width / 2) / "
+                     "tan(hfov / 2), degrees in (0, 170).");
+  options->AddOption("Synthesis.camera_model", &synth->camera_model,
+                     "Camera model, rendered distorted: PINHOLE | "
+                     "SIMPLE_RADIAL (k1) | RADIAL (k1, k2) | OPENCV (k1, k2, "
+                     "p1, p2); principal point at the image centre.");
+  options->AddOption("Synthesis.camera_k1", &synth->camera_k1,
+                     "Radial distortion k1 (COLMAP formula on normalised "
+                     "coordinates, e.g. -0.3..0.3; < 0 barrel); 0 for "
+                     "PINHOLE; must keep the distortion invertible over the "
+                     "image.");
+  options->AddOption("Synthesis.camera_k2", &synth->camera_k2,
+                     "Radial distortion k2 (RADIAL, OPENCV; else 0).");
+  options->AddOption("Synthesis.camera_p1", &synth->camera_p1,
+                     "Tangential distortion p1 (OPENCV only; else 0).");
+  options->AddOption("Synthesis.camera_p2", &synth->camera_p2,
+                     "Tangential distortion p2 (OPENCV only; else 0).");
   options->AddOption("Synthesis.supersampling", &synth->supersampling,
                      "Anti-aliasing: supersampling^2 rays per pixel, 1..8.");
   options->AddOption("Synthesis.image_noise_stddev",
@@ -47,19 +63,40 @@ void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
                      "Sun elevation, degrees in (0, 90].");
   options->AddOption("Synthesis.sun_azimuth_deg", &synth->sun_azimuth_deg,
                      "Sun azimuth from +x towards +y, degrees.");
+  options->AddOption("Synthesis.lidar_model", &synth->lidar_model,
+                     "LIDAR unit: VLP-16 (16 rings, -15..15 deg, 1800 "
+                     "columns) | HDL-32E (32, -30.67..10.67, 2172) | OS1-64 "
+                     "(64, -16.6..16.6, 1024) | HDL-64E (64 in two blocks, "
+                     "-24.9..-8.87 and -8.33..2, 2048) | OS1-128 (128, "
+                     "-22.5..22.5, 1024) | custom (the four lidar_rings.. "
+                     "options below, defaults = OS1-64).");
   options->AddOption("Synthesis.lidar_rings", &synth->lidar_rings,
-                     "LIDAR beams (rings), uniformly over the vertical FOV.");
+                     "lidar_model custom only: LIDAR beams (rings), "
+                     "uniformly over the vertical FOV, >= 1.");
   options->AddOption("Synthesis.lidar_columns", &synth->lidar_columns,
-                     "LIDAR azimuth steps per revolution.");
+                     "lidar_model custom only: LIDAR azimuth steps per "
+                     "revolution, >= 1.");
   options->AddOption("Synthesis.lidar_vertical_fov_min_deg",
                      &synth->lidar_vertical_fov_min_deg,
-                     "Elevation of the lowest beam, degrees.");
+                     "lidar_model custom only: elevation of the lowest "
+                     "beam, degrees in [-90, max).");
   options->AddOption("Synthesis.lidar_vertical_fov_max_deg",
                      &synth->lidar_vertical_fov_max_deg,
-                     "Elevation of the highest beam, degrees.");
+                     "lidar_model custom only: elevation of the highest "
+                     "beam, degrees in (min, 90].");
   options->AddOption("Synthesis.lidar_range_noise_m",
                      &synth->lidar_range_noise_m,
-                     "Std of the Gaussian LIDAR range noise, metres, >= 0.");
+                     "Std of the Gaussian LIDAR range noise, metres, >= 0 "
+                     "(real units: 0.01-0.03).");
+  options->AddOption("Synthesis.lidar_dropout_probability",
+                     &synth->lidar_dropout_probability,
+                     "Probability that a LIDAR return is lost, independently "
+                     "per beam (seeded), [0, 1).");
+  options->AddOption("Synthesis.lidar_grazing_dropout",
+                     &synth->lidar_grazing_dropout,
+                     "Extra loss at grazing incidence, [0, 1]: a return is "
+                     "kept with probability (1 - dropout_probability) * (1 - "
+                     "this * (1 - |cos incidence|)); 0 = off.");
   options->AddOption("Synthesis.lidar_min_range_m", &synth->lidar_min_range_m,
                      "LIDAR returns closer than this are dropped, metres.");
   options->AddOption("Synthesis.lidar_max_range_m", &synth->lidar_max_range_m,

@@ -8,6 +8,7 @@
 
 #include <glog/logging.h>
 
+#include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
 #include "src/synth/random.h"
 #include "src/synth/textures.h"
@@ -35,16 +36,63 @@ uint64_t VoxelKey(const Eigen::Vector3d& point, double voxel_size) {
 
 }  // namespace
 
-Eigen::Vector3d LidarBeamDirection(const SynthesisOptions& options, int ring,
+std::string LidarModelNames() {
+  return "VLP-16, HDL-32E, OS1-64, HDL-64E, OS1-128, custom";
+}
+
+bool IsKnownLidarModel(const std::string& model) {
+  return model == "VLP-16" || model == "HDL-32E" || model == "OS1-64" ||
+         model == "HDL-64E" || model == "OS1-128" || model == "custom";
+}
+
+LidarGeometry SynthLidarGeometry(const SynthesisOptions& options) {
+  LidarGeometry geometry;
+  geometry.model = options.lidar_model;
+  const auto add_uniform = [&geometry](int rings, double min_deg,
+                                       double max_deg) {
+    // Same expression as the original uniform layout (bit-identical
+    // elevations for custom / OS1-64).
+    for (int ring = 0; ring < rings; ++ring) {
+      geometry.ring_elevations_deg.push_back(
+          rings > 1 ? min_deg + (max_deg - min_deg) * ring / (rings - 1)
+                    : 0.5 * (min_deg + max_deg));
+    }
+  };
+  const std::string& model = options.lidar_model;
+  if (model == "VLP-16") {
+    add_uniform(16, -15.0, 15.0);
+    geometry.columns = 1800;
+  } else if (model == "HDL-32E") {
+    add_uniform(32, -30.67, 10.67);
+    geometry.columns = 2172;
+  } else if (model == "OS1-64") {
+    add_uniform(64, -16.6, 16.6);
+    geometry.columns = 1024;
+  } else if (model == "HDL-64E") {
+    add_uniform(32, -24.9, -8.87);  // Lower block.
+    add_uniform(32, -8.33, 2.0);    // Upper block.
+    geometry.columns = 2048;
+  } else if (model == "OS1-128") {
+    add_uniform(128, -22.5, 22.5);
+    geometry.columns = 1024;
+  } else if (model == "custom") {
+    add_uniform(options.lidar_rings, options.lidar_vertical_fov_min_deg,
+                options.lidar_vertical_fov_max_deg);
+    geometry.columns = options.lidar_columns;
+  } else {
+    THROW_CHECK(false, "Synthesis.lidar_model must be one of "
+                           << LidarModelNames() << ", got '" << model << "'");
+  }
+  THROW_CHECK(!geometry.ring_elevations_deg.empty() && geometry.columns >= 1,
+              "Synthesis.lidar_model " << model
+                                       << ": no rings or columns");
+  return geometry;
+}
+
+Eigen::Vector3d LidarBeamDirection(const LidarGeometry& geometry, int ring,
                                    int column) {
-  const double min_deg = options.lidar_vertical_fov_min_deg;
-  const double max_deg = options.lidar_vertical_fov_max_deg;
-  const double elevation =
-      DegToRad(options.lidar_rings > 1
-                   ? min_deg + (max_deg - min_deg) * ring /
-                                   (options.lidar_rings - 1)
-                   : 0.5 * (min_deg + max_deg));
-  const double azimuth = 2.0 * M_PI * column / options.lidar_columns;
+  const double elevation = DegToRad(geometry.ring_elevations_deg[ring]);
+  const double azimuth = 2.0 * M_PI * column / geometry.columns;
   return Eigen::Vector3d(std::cos(elevation) * std::cos(azimuth),
                          std::cos(elevation) * std::sin(azimuth),
                          std::sin(elevation));
@@ -56,10 +104,15 @@ LidarScan SimulateLidarScan(const RayTracer& tracer,
   const SceneMesh& mesh = tracer.mesh();
   const CounterRng noise(options.seed,
                          StreamId(RandomStream::kLidarNoise, frame_index));
+  const CounterRng dropout(options.seed,
+                           StreamId(RandomStream::kLidarDropout, frame_index));
   const Eigen::Matrix3d rotation = world_from_lidar.rotation.toRotationMatrix();
   const Eigen::Vector3d origin = world_from_lidar.translation;
-  const int rings = options.lidar_rings;
-  const int columns = options.lidar_columns;
+  const LidarGeometry geometry = SynthLidarGeometry(options);
+  const int rings = static_cast<int>(geometry.ring_elevations_deg.size());
+  const int columns = geometry.columns;
+  const bool simulate_dropout = options.lidar_dropout_probability > 0.0 ||
+                                options.lidar_grazing_dropout > 0.0;
   // Per beam: range (<= 0: no return) and intensity.
   std::vector<float> ranges(static_cast<size_t>(rings) * columns, 0.0f);
   std::vector<float> intensities(ranges.size(), 0.0f);
@@ -68,7 +121,7 @@ LidarScan SimulateLidarScan(const RayTracer& tracer,
     for (int ring = 0; ring < rings; ++ring) {
       const size_t beam = static_cast<size_t>(column) * rings + ring;
       const Eigen::Vector3d direction_in_lidar =
-          LidarBeamDirection(options, ring, column);
+          LidarBeamDirection(geometry, ring, column);
       const Eigen::Vector3d direction = rotation * direction_in_lidar;
       const RayHit hit = tracer.Intersect(origin, direction,
                                           options.lidar_min_range_m,
@@ -79,11 +132,17 @@ LidarScan SimulateLidarScan(const RayTracer& tracer,
       if (range <= 0.0) continue;
       const Eigen::Vector3d point_in_world = origin + hit.distance * direction;
       const Eigen::Vector3d normal = mesh.normals[hit.triangle].cast<double>();
+      const double cosine = std::abs(normal.dot(direction));
+      if (simulate_dropout) {
+        const double keep_probability =
+            (1.0 - options.lidar_dropout_probability) *
+            (1.0 - options.lidar_grazing_dropout * (1.0 - cosine));
+        if (dropout.Uniform(beam) >= keep_probability) continue;
+      }
       const Eigen::Vector3d albedo = MaterialAlbedo(
           mesh.materials[hit.triangle],
           SurfaceCoordinates(point_in_world, normal),
           mesh.texture_seeds[hit.triangle]);
-      const double cosine = std::abs(normal.dot(direction));
       ranges[beam] = static_cast<float>(range);
       intensities[beam] =
           static_cast<float>(std::clamp(albedo.mean() * cosine, 0.0, 1.0));

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <set>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -99,6 +101,191 @@ TEST(LidarSimulator, DeterministicPerSeedAndFrame) {
     num_different += (a.points[i] != c.points[i]) ? 1 : 0;
   }
   EXPECT_GT(num_different, static_cast<int>(a.size()) / 2);
+}
+
+// A closed 40 x 40 x 20 m room around the sensor at the origin: every beam
+// of every model hits a wall, the floor or the ceiling.
+struct RoomFixture {
+  SceneMesh mesh = [] {
+    SceneBuilder builder;
+    builder.AddBox({-20, -20, -10}, {20, 20, 10}, Material::kConcrete, 0,
+                   false);
+    return builder.mesh();
+  }();
+  RayTracer tracer{mesh};
+};
+
+// The sensor off the room's symmetry axes (no beam along a box edge, where
+// Embree may miss between two triangles).
+Rigid3d RoomPose(double z = 0.13) {
+  Rigid3d pose;
+  pose.translation = Eigen::Vector3d(0.37, -0.21, z);
+  return pose;
+}
+
+double ElevationDeg(const Eigen::Vector3f& point) {
+  const Eigen::Vector3d direction = point.cast<double>().normalized();
+  return std::asin(direction.z()) * 180.0 / M_PI;
+}
+
+TEST(LidarSimulator, ModelsHaveTheirRingsElevationsAndColumns) {
+  RoomFixture room;
+  struct Expected {
+    std::string model;
+    int rings;
+    double min_deg;
+    double max_deg;
+    int columns;
+  };
+  const std::vector<Expected> models = {
+      {"VLP-16", 16, -15.0, 15.0, 1800},
+      {"HDL-32E", 32, -30.67, 10.67, 2172},
+      {"OS1-64", 64, -16.6, 16.6, 1024},
+      {"HDL-64E", 64, -24.9, 2.0, 2048},
+      {"OS1-128", 128, -22.5, 22.5, 1024},
+      {"custom", 8, -5.0, 25.0, 100}};
+  for (const Expected& expected : models) {
+    SCOPED_TRACE(expected.model);
+    SynthesisOptions options;
+    options.lidar_model = expected.model;
+    if (expected.model == "custom") {
+      options.lidar_rings = 8;
+      options.lidar_columns = 100;
+      options.lidar_vertical_fov_min_deg = -5.0;
+      options.lidar_vertical_fov_max_deg = 25.0;
+    }
+    options.lidar_range_noise_m = 0.0;
+    options.num_threads = 2;
+    ASSERT_TRUE(options.Check());
+    const LidarGeometry geometry = SynthLidarGeometry(options);
+    EXPECT_EQ(geometry.ring_elevations_deg.size(),
+              static_cast<size_t>(expected.rings));
+    EXPECT_EQ(geometry.columns, expected.columns);
+    const LidarScan scan =
+        SimulateLidarScan(room.tracer, RoomPose(), options, 0);
+    // All beams return, ordered by column then ring.
+    ASSERT_EQ(scan.size(),
+              static_cast<size_t>(expected.rings) * expected.columns);
+    std::vector<double> ring_min(expected.rings, 1e9);
+    std::vector<double> ring_max(expected.rings, -1e9);
+    std::set<long> azimuth_steps;
+    for (size_t i = 0; i < scan.size(); ++i) {
+      const int ring = scan.rings[i];
+      ASSERT_LT(ring, expected.rings);
+      EXPECT_EQ(ring, static_cast<int>(i % expected.rings));
+      const double elevation = ElevationDeg(scan.points[i]);
+      ring_min[ring] = std::min(ring_min[ring], elevation);
+      ring_max[ring] = std::max(ring_max[ring], elevation);
+      if (ring == 0) {
+        const double azimuth =
+            std::atan2(scan.points[i].y(), scan.points[i].x());
+        azimuth_steps.insert(std::lround(
+            (azimuth < 0 ? azimuth + 2 * M_PI : azimuth) / (2 * M_PI) *
+            expected.columns) % expected.columns);
+      }
+    }
+    EXPECT_EQ(azimuth_steps.size(), static_cast<size_t>(expected.columns));
+    EXPECT_NEAR(ring_min.front(), expected.min_deg, 1e-3);
+    EXPECT_NEAR(ring_max.back(), expected.max_deg, 1e-3);
+    for (int ring = 0; ring < expected.rings; ++ring) {
+      // One elevation per ring (float precision of the points).
+      EXPECT_NEAR(ring_min[ring], ring_max[ring], 1e-3) << ring;
+      EXPECT_NEAR(ring_min[ring], geometry.ring_elevations_deg[ring], 1e-3);
+      if (ring > 0) {
+        EXPECT_GT(ring_min[ring], ring_max[ring - 1]) << ring;
+      }
+    }
+    if (expected.model == "HDL-64E") {
+      // Two uniform blocks: 0.517 deg spacing below, 0.333 deg above.
+      EXPECT_NEAR(ring_min[31], -8.87, 1e-3);
+      EXPECT_NEAR(ring_min[32], -8.33, 1e-3);
+      EXPECT_NEAR(ring_min[1] - ring_min[0], (24.9 - 8.87) / 31, 1e-3);
+      EXPECT_NEAR(ring_min[63] - ring_min[62], (8.33 + 2.0) / 31, 1e-3);
+    }
+  }
+}
+
+TEST(LidarSimulator, NamedModelsRejectCustomLayoutOptions) {
+  SynthesisOptions options;
+  options.lidar_model = "VLP-16";
+  EXPECT_TRUE(options.Check());
+  options.lidar_rings = 32;
+  EXPECT_FALSE(options.Check());
+  options.lidar_model = "custom";
+  EXPECT_TRUE(options.Check());
+  options.lidar_model = "HDL-128";
+  EXPECT_FALSE(options.Check());
+  EXPECT_THROW(SynthLidarGeometry(options), Error);
+  options = SynthesisOptions();
+  options.lidar_dropout_probability = 1.0;
+  EXPECT_FALSE(options.Check());
+  options.lidar_dropout_probability = -0.1;
+  EXPECT_FALSE(options.Check());
+  options = SynthesisOptions();
+  options.lidar_grazing_dropout = 1.5;
+  EXPECT_FALSE(options.Check());
+}
+
+// |cos| of the angle between the beam from the sensor and the normal of the
+// room face that the world point lies on.
+double CosIncidence(const Eigen::Vector3f& point_in_world,
+                    const Rigid3d& world_from_lidar) {
+  const Eigen::Vector3d p = point_in_world.cast<double>();
+  const Eigen::Vector3d scaled(std::abs(p.x()) / 20.0, std::abs(p.y()) / 20.0,
+                               std::abs(p.z()) / 10.0);
+  int axis = 0;
+  scaled.maxCoeff(&axis);
+  const Eigen::Vector3d beam = p - world_from_lidar.translation;
+  return std::abs(beam(axis)) / beam.norm();
+}
+
+TEST(LidarSimulator, DropoutRemovesTheRequestedShareDeterministically) {
+  RoomFixture room;
+  SynthesisOptions options;
+  options.lidar_model = "VLP-16";
+  options.num_threads = 2;
+  const size_t num_beams = 16 * 1800;
+  const LidarScan full = SimulateLidarScan(room.tracer, RoomPose(), options, 3);
+  ASSERT_EQ(full.size(), num_beams);
+  for (const double probability : {0.05, 0.2, 0.5}) {
+    options.lidar_dropout_probability = probability;
+    const LidarScan a = SimulateLidarScan(room.tracer, RoomPose(), options, 3);
+    const LidarScan b = SimulateLidarScan(room.tracer, RoomPose(), options, 3);
+    const LidarScan c = SimulateLidarScan(room.tracer, RoomPose(), options, 4);
+    // Binomial std of the share is <= 0.003 for 28800 beams.
+    EXPECT_NEAR(1.0 - static_cast<double>(a.size()) / num_beams, probability,
+                0.012);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a.points[i], b.points[i]);
+    EXPECT_NE(a.size(), c.size());
+  }
+  // Grazing dropout: returns at a low |cos incidence| are lost more often.
+  // The sensor 0.5 m above the floor sees it at grazing angles.
+  const Rigid3d near_floor = RoomPose(-9.5);
+  options.lidar_dropout_probability = 0.0;
+  const LidarScan full_near_floor =
+      SimulateLidarScan(room.tracer, near_floor, options, 3);
+  options.lidar_grazing_dropout = 1.0;
+  const LidarScan grazing =
+      SimulateLidarScan(room.tracer, near_floor, options, 3);
+  const auto count_by_cos = [&](const LidarScan& scan, double lo, double hi) {
+    int count = 0;
+    for (const Eigen::Vector3f& point : scan.points) {
+      const double cosine = CosIncidence(
+          (near_floor * point.cast<double>()).cast<float>(), near_floor);
+      count += (cosine >= lo && cosine < hi) ? 1 : 0;
+    }
+    return count;
+  };
+  ASSERT_GT(count_by_cos(full_near_floor, 0.0, 0.3), 1000);
+  ASSERT_GT(count_by_cos(full_near_floor, 0.9, 1.01), 1000);
+  const double kept_low = static_cast<double>(count_by_cos(grazing, 0.0, 0.3)) /
+                          count_by_cos(full_near_floor, 0.0, 0.3);
+  const double kept_high =
+      static_cast<double>(count_by_cos(grazing, 0.9, 1.01)) /
+      count_by_cos(full_near_floor, 0.9, 1.01);
+  EXPECT_LT(kept_low, 0.4);
+  EXPECT_GT(kept_high, 0.88);
 }
 
 TEST(LidarSimulator, SurveySeesOnlyVisibleSurfacesAtVoxelSpacing) {

@@ -53,6 +53,7 @@ enum class RandomStream : uint64_t {
   kSurveyNoise = 5,
   kSurveySubsample = 6,
   kSceneLayout = 7,
+  kLidarDropout = 8,
 };
 
 inline uint64_t StreamId(RandomStream stream, uint64_t index = 0) {

@@ -74,16 +74,19 @@ RenderedFrame RenderFrame(const RayTracer& tracer, const Camera& camera,
                           const Rigid3d& world_from_cam,
                           const SynthesisOptions& options, int frame_index,
                           bool render_depth) {
-  THROW_CHECK(camera.model_id == CameraModelId::kPinhole &&
-                  camera.params.size() == 4,
-              "The synthesiser renders PINHOLE cameras only, got "
-                  << camera.ModelName());
+  camera.Check();
   const int width = static_cast<int>(camera.width);
   const int height = static_cast<int>(camera.height);
-  const double fx = camera.params[0];
-  const double fy = camera.params[1];
-  const double cx = camera.params[2];
-  const double cy = camera.params[3];
+  const CameraModelId model_id = camera.model_id;
+  const double* params = camera.params.data();
+  // The ray through image point (x, y) in the camera frame, with z = 1: the
+  // model's undistortion (for PINHOLE exactly ((x - cx) / fx, (y - cy) / fy,
+  // 1), the arithmetic the renderer always used).
+  const auto ray_in_cam = [model_id, params](double x, double y) {
+    double u, v, w;
+    CameraModelCamFromImg(model_id, params, x, y, &u, &v, &w);
+    return Eigen::Vector3d(u / w, v / w, 1.0);
+  };
   const Eigen::Matrix3d rotation = world_from_cam.rotation.toRotationMatrix();
   const Eigen::Vector3d origin = world_from_cam.translation;
   const Eigen::Vector3d sun = SunDirection(options);
@@ -103,8 +106,7 @@ RenderedFrame RenderFrame(const RayTracer& tracer, const Camera& camera,
         for (int i = 0; i < s; ++i) {
           const double u = col + (i + 0.5) / s;
           const double v = row + (j + 0.5) / s;
-          const Eigen::Vector3d direction =
-              rotation * Eigen::Vector3d((u - cx) / fx, (v - cy) / fy, 1.0);
+          const Eigen::Vector3d direction = rotation * ray_in_cam(u, v);
           sum += Shade(tracer, origin, direction.normalized(), sun);
         }
       }
@@ -121,8 +123,7 @@ RenderedFrame RenderFrame(const RayTracer& tracer, const Camera& camera,
       if (render_depth) {
         // MVS convention: the ray through (col, row) itself. With a camera
         // direction of z = 1 the ray parameter is the z-depth.
-        const Eigen::Vector3d direction =
-            rotation * Eigen::Vector3d((col - cx) / fx, (row - cy) / fy, 1.0);
+        const Eigen::Vector3d direction = rotation * ray_in_cam(col, row);
         const RayHit hit = tracer.Intersect(origin, direction);
         depth_row[col] = hit.Valid() ? static_cast<float>(hit.distance) : 0.0f;
       }

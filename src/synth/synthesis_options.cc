@@ -2,6 +2,9 @@
 
 #include <glog/logging.h>
 
+#include "src/synth/lidar_simulator.h"
+#include "src/synth/synthesize.h"
+
 namespace colmap_lidar {
 
 #define SYNTH_CHECK_OPTION(condition)                                  \
@@ -21,13 +24,43 @@ bool SynthesisOptions::Check() const {
   SYNTH_CHECK_OPTION(image_width >= 8 && image_height >= 8);
   SYNTH_CHECK_OPTION(horizontal_fov_deg > 0.0 && horizontal_fov_deg < 170.0);
   SYNTH_CHECK_OPTION(supersampling >= 1 && supersampling <= 8);
+  const std::string camera_problem = SynthCameraProblem(*this);
+  if (!camera_problem.empty()) {
+    LOG(ERROR) << "Invalid Synthesis option: " << camera_problem;
+    return false;
+  }
   SYNTH_CHECK_OPTION(image_noise_stddev >= 0.0);
   SYNTH_CHECK_OPTION(sun_elevation_deg > 0.0 && sun_elevation_deg <= 90.0);
+  if (!IsKnownLidarModel(lidar_model)) {
+    LOG(ERROR) << "Synthesis.lidar_model must be one of " << LidarModelNames()
+               << ", got '" << lidar_model << "'";
+    return false;
+  }
+  if (lidar_model != "custom") {
+    const SynthesisOptions defaults;
+    if (lidar_rings != defaults.lidar_rings ||
+        lidar_columns != defaults.lidar_columns ||
+        lidar_vertical_fov_min_deg != defaults.lidar_vertical_fov_min_deg ||
+        lidar_vertical_fov_max_deg != defaults.lidar_vertical_fov_max_deg) {
+      LOG(ERROR) << "Synthesis.lidar_rings / lidar_columns / "
+                    "lidar_vertical_fov_min_deg / _max_deg only apply to "
+                    "--Synthesis.lidar_model custom; lidar_model "
+                 << lidar_model << " has its own layout (got rings "
+                 << lidar_rings << ", columns " << lidar_columns
+                 << ", vertical FOV [" << lidar_vertical_fov_min_deg << ", "
+                 << lidar_vertical_fov_max_deg << "] deg)";
+      return false;
+    }
+  }
   SYNTH_CHECK_OPTION(lidar_rings >= 1 && lidar_columns >= 1);
   SYNTH_CHECK_OPTION(lidar_vertical_fov_min_deg >= -90.0 &&
                      lidar_vertical_fov_max_deg <= 90.0 &&
                      lidar_vertical_fov_min_deg < lidar_vertical_fov_max_deg);
   SYNTH_CHECK_OPTION(lidar_range_noise_m >= 0.0);
+  SYNTH_CHECK_OPTION(lidar_dropout_probability >= 0.0 &&
+                     lidar_dropout_probability < 1.0);
+  SYNTH_CHECK_OPTION(lidar_grazing_dropout >= 0.0 &&
+                     lidar_grazing_dropout <= 1.0);
   SYNTH_CHECK_OPTION(lidar_min_range_m >= 0.0 &&
                      lidar_min_range_m < lidar_max_range_m);
   SYNTH_CHECK_OPTION(prior_translation_sigma_m >= 0.0);

@@ -1,6 +1,7 @@
 // Options of the synthetic camera + LIDAR dataset generator (issue 3): the
-// scene preset, the rig (a PINHOLE camera like the Intel RealSense D435i of
-// the Newer College Dataset and an Ouster-OS1-64-like LIDAR), the
+// scene preset, the rig (by default a PINHOLE camera like the Intel
+// RealSense D435i of the Newer College Dataset and an Ouster-OS1-64-like
+// LIDAR; optionally radial/tangential distortion and other LIDAR units), the
 // trajectory, the noise models and the survey that gives reference.ply.
 //
 // Prior-pose noise model (Amblard et al., Sec. IV-A: "random translational
@@ -38,11 +39,26 @@ struct SynthesisOptions {
   // Replace an existing non-empty output folder.
   bool overwrite = false;
 
-  // Camera (PINHOLE, principal point at the image centre, square pixels).
+  // Camera: principal point at the image centre, square pixels, focal
+  // length from horizontal_fov_deg (that of the undistorted pinhole;
+  // distortion then widens (k1 < 0) or narrows (k1 > 0) the real field of
+  // view). Sizes from 640 x 480 to 1280 x 720 are the benchmark's.
   int image_width = 848;
   int image_height = 480;
   // Horizontal field of view in degrees, (0, 170).
   double horizontal_fov_deg = 90.0;
+  // COLMAP camera model: "PINHOLE" (no distortion), "SIMPLE_RADIAL" (k1),
+  // "RADIAL" (k1, k2) or "OPENCV" (k1, k2, p1, p2; fx = fy). Coefficients a
+  // model does not have must stay 0. The image is rendered DISTORTED (each
+  // ray is the model's undistortion of its pixel sample).
+  std::string camera_model = "PINHOLE";
+  // Radial and tangential coefficients on normalised coordinates (COLMAP's
+  // formulas, camera_models.h). Check() requires the distortion to be
+  // invertible (monotonic in the radius) over the whole image.
+  double camera_k1 = 0.0;
+  double camera_k2 = 0.0;
+  double camera_p1 = 0.0;
+  double camera_p2 = 0.0;
   // Rays per pixel = supersampling^2 (box-filter anti-aliasing), >= 1.
   int supersampling = 3;
   // Gaussian sensor noise added to the 8-bit image, in grey levels.
@@ -51,14 +67,27 @@ struct SynthesisOptions {
   double sun_elevation_deg = 40.0;
   double sun_azimuth_deg = 35.0;
 
-  // LIDAR (OS1-64-like): rings uniformly spaced over the vertical field of
-  // view, columns uniformly over 360 degrees of azimuth.
+  // LIDAR unit: "VLP-16", "HDL-32E", "OS1-64", "HDL-64E", "OS1-128" (ring
+  // elevations and column counts of the real units, lidar_simulator.h
+  // LidarModelGeometry) or "custom": lidar_rings rings uniformly spaced over
+  // [lidar_vertical_fov_min_deg, _max_deg] and lidar_columns columns, whose
+  // defaults are the OS1-64's (so "custom" and "OS1-64" give identical
+  // scans by default). With a named model the four custom fields must keep
+  // their defaults (Check() fails otherwise instead of ignoring them).
+  std::string lidar_model = "custom";
   int lidar_rings = 64;
   int lidar_columns = 1024;
   double lidar_vertical_fov_min_deg = -16.6;
   double lidar_vertical_fov_max_deg = 16.6;
   // Standard deviation of the Gaussian range noise, metres (>= 0).
   double lidar_range_noise_m = 0.015;
+  // Probability, in [0, 1), that a return is lost (dark or specular
+  // surfaces), independently per beam, seeded by (seed, frame, beam).
+  double lidar_dropout_probability = 0.0;
+  // Extra loss at grazing incidence, in [0, 1]: a return survives the
+  // dropout with probability (1 - lidar_dropout_probability) *
+  // (1 - lidar_grazing_dropout * (1 - |cos incidence|)); 0 disables it.
+  double lidar_grazing_dropout = 0.0;
   // Returns closer than min or farther than max range are dropped, metres.
   double lidar_min_range_m = 0.5;
   double lidar_max_range_m = 100.0;

@@ -1,10 +1,13 @@
 #include "src/synth/synthesize.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -47,10 +50,16 @@ std::string FormatOptions(const SynthesisOptions& o) {
       << "image_width = " << o.image_width << "\n"
       << "image_height = " << o.image_height << "\n"
       << "horizontal_fov_deg = " << o.horizontal_fov_deg << "\n"
+      << "camera_model = " << o.camera_model << "\n"
+      << "camera_k1 = " << o.camera_k1 << "\n"
+      << "camera_k2 = " << o.camera_k2 << "\n"
+      << "camera_p1 = " << o.camera_p1 << "\n"
+      << "camera_p2 = " << o.camera_p2 << "\n"
       << "supersampling = " << o.supersampling << "\n"
       << "image_noise_stddev = " << o.image_noise_stddev << "\n"
       << "sun_elevation_deg = " << o.sun_elevation_deg << "\n"
       << "sun_azimuth_deg = " << o.sun_azimuth_deg << "\n"
+      << "lidar_model = " << o.lidar_model << "\n"
       << "lidar_rings = " << o.lidar_rings << "\n"
       << "lidar_columns = " << o.lidar_columns << "\n"
       << "lidar_vertical_fov_min_deg = " << o.lidar_vertical_fov_min_deg
@@ -58,6 +67,9 @@ std::string FormatOptions(const SynthesisOptions& o) {
       << "lidar_vertical_fov_max_deg = " << o.lidar_vertical_fov_max_deg
       << "\n"
       << "lidar_range_noise_m = " << o.lidar_range_noise_m << "\n"
+      << "lidar_dropout_probability = " << o.lidar_dropout_probability
+      << "\n"
+      << "lidar_grazing_dropout = " << o.lidar_grazing_dropout << "\n"
       << "lidar_min_range_m = " << o.lidar_min_range_m << "\n"
       << "lidar_max_range_m = " << o.lidar_max_range_m << "\n"
       << "prior_translation_sigma_m = " << o.prior_translation_sigma_m << "\n"
@@ -69,6 +81,25 @@ std::string FormatOptions(const SynthesisOptions& o) {
       << "survey_voxel_size_m = " << o.survey_voxel_size_m << "\n"
       << "survey_max_points = " << o.survey_max_points << "\n"
       << "write_depth_maps = " << o.write_depth_maps << "\n";
+  return out.str();
+}
+
+// The LIDAR unit and its beam layout in words.
+std::string LidarReadme(const SynthesisOptions& options) {
+  const LidarGeometry geometry = SynthLidarGeometry(options);
+  std::ostringstream out;
+  out << "LIDAR " << geometry.model << ": "
+      << geometry.ring_elevations_deg.size() << " rings, elevations from "
+      << geometry.MinElevationDeg() << " to " << geometry.MaxElevationDeg()
+      << " deg";
+  if (geometry.model == "HDL-64E") {
+    out << " in two uniform blocks of 32 ([-24.9, -8.87] and [-8.33, 2] "
+           "deg)";
+  } else {
+    out << " (uniform)";
+  }
+  out << ", " << geometry.columns << " columns (azimuth 2 pi c / "
+      << geometry.columns << " from +x towards +y).";
   return out.str();
 }
 
@@ -85,12 +116,16 @@ std::string GroundTruthReadme(const SynthesisOptions& options,
       << "## Files\n"
       << "- `poses_gt.txt`: exact camera poses (world_from_cam).\n"
       << "- `poses_prior.txt`: " << PriorNoiseComment(options) << "\n"
-      << "- `lidar/<frame>.ply`: Ouster-OS1-like scan in the LIDAR frame (x "
+      << "- `lidar/<frame>.ply`: " << LidarReadme(options)
+      << " Points in the LIDAR frame (x "
          "forward, y left, z up), x y z float32, intensity float32 in [0, 1] "
          "(albedo x |cos incidence|), ring uint16 (0 = lowest beam); range "
          "noise Gaussian, std "
       << options.lidar_range_noise_m
-      << " m along the beam. world_from_lidar = world_from_cam * "
+      << " m along the beam; a return is kept with probability (1 - "
+      << options.lidar_dropout_probability << ") * (1 - "
+      << options.lidar_grazing_dropout
+      << " * (1 - |cos incidence|)). world_from_lidar = world_from_cam * "
          "cam_from_lidar (p_cam = cam_from_lidar * p_lidar).\n"
       << "- `reference.ply`: simulated survey from " << stations.size()
       << " tripod stations (world frame, x y z float32), range noise std "
@@ -112,14 +147,20 @@ std::string GroundTruthReadme(const SynthesisOptions& options,
          "angle_deg` (outward normals of the two faces; convex 1 = outer "
          "corner).\n"
       << "- `ground_truth/depth_maps/<frame>.bin`: COLMAP Mat (`W&H&1&` + "
-         "float32), camera-frame z-depth of the ray through pixel (col, row) "
-         "WITHOUT +0.5 (COLMAP's MVS convention: X_cam = depth * "
+         "float32), camera-frame z-depth of the ray through image point "
+         "(col, row) WITHOUT +0.5 (COLMAP's MVS pixel convention), for the "
+         "same (distorted) camera as the image: X_cam = depth * [x, y, 1] "
+         "with (x, y) = CamFromImg(col, row) of calibration.yaml's camera "
+         "(the model's undistortion of the point (col, row); for PINHOLE "
          "K^-1 [col, row, 1]); 0 where the ray hits nothing.\n"
-      << "- Images: pixel (col, row) is the average of "
+      << "- Images: camera " << options.camera_model
+      << " (calibration.yaml), rendered distorted: pixel (col, row) is the "
+         "average of "
       << options.supersampling * options.supersampling
-      << " rays inside [col, col+1] x [row, row+1] (SfM convention, centre "
-         "at +0.5), Lambertian sun + sky shading with hard shadows, gamma "
-         "2.2, Gaussian noise std "
+      << " rays through the undistortion (CamFromImg) of points on a "
+         "regular grid inside [col, col+1] x [row, row+1] (SfM convention, "
+         "centre at +0.5), Lambertian sun + sky shading with hard shadows, "
+         "gamma 2.2, Gaussian noise std "
       << options.image_noise_stddev << " grey levels.\n\n"
       << "## Survey stations (world)\n";
   for (const Eigen::Vector3d& station : stations) {
@@ -139,9 +180,113 @@ bool IsNonEmptyDir(const std::string& path) {
 Camera SynthCamera(const SynthesisOptions& options) {
   const double focal = 0.5 * options.image_width /
                        std::tan(0.5 * options.horizontal_fov_deg * M_PI / 180.0);
-  return Camera::FromModelName(
-      "PINHOLE", options.image_width, options.image_height,
-      {focal, focal, 0.5 * options.image_width, 0.5 * options.image_height});
+  const double cx = 0.5 * options.image_width;
+  const double cy = 0.5 * options.image_height;
+  std::vector<double> params;
+  if (options.camera_model == "PINHOLE") {
+    params = {focal, focal, cx, cy};
+  } else if (options.camera_model == "SIMPLE_RADIAL") {
+    params = {focal, cx, cy, options.camera_k1};
+  } else if (options.camera_model == "RADIAL") {
+    params = {focal, cx, cy, options.camera_k1, options.camera_k2};
+  } else if (options.camera_model == "OPENCV") {
+    params = {focal,
+              focal,
+              cx,
+              cy,
+              options.camera_k1,
+              options.camera_k2,
+              options.camera_p1,
+              options.camera_p2};
+  } else {
+    THROW_CHECK(false, "Synthesis.camera_model must be PINHOLE, "
+                       "SIMPLE_RADIAL, RADIAL or OPENCV, got '"
+                           << options.camera_model << "'");
+  }
+  return Camera::FromModelName(options.camera_model, options.image_width,
+                               options.image_height, params);
+}
+
+std::string SynthCameraProblem(const SynthesisOptions& options) {
+  const std::string& model = options.camera_model;
+  std::ostringstream problem;
+  if (model != "PINHOLE" && model != "SIMPLE_RADIAL" && model != "RADIAL" &&
+      model != "OPENCV") {
+    problem << "Synthesis.camera_model must be PINHOLE, SIMPLE_RADIAL, "
+               "RADIAL or OPENCV, got '"
+            << model << "'";
+    return problem.str();
+  }
+  const bool has_k1 = model != "PINHOLE";
+  const bool has_k2 = model == "RADIAL" || model == "OPENCV";
+  const bool has_p = model == "OPENCV";
+  const std::pair<const char*, std::pair<double, bool>> coefficients[] = {
+      {"camera_k1", {options.camera_k1, has_k1}},
+      {"camera_k2", {options.camera_k2, has_k2}},
+      {"camera_p1", {options.camera_p1, has_p}},
+      {"camera_p2", {options.camera_p2, has_p}}};
+  for (const auto& [name, value_and_used] : coefficients) {
+    if (!std::isfinite(value_and_used.first)) {
+      problem << "Synthesis." << name << " is not finite";
+      return problem.str();
+    }
+    if (!value_and_used.second && value_and_used.first != 0.0) {
+      problem << "Synthesis." << name << " = " << value_and_used.first
+              << " but camera model " << model
+              << " has no such coefficient (use a model that has it, or 0)";
+      return problem.str();
+    }
+  }
+  if (model == "PINHOLE" || options.image_width < 1 ||
+      options.image_height < 1 || !(options.horizontal_fov_deg > 0.0) ||
+      !(options.horizontal_fov_deg < 180.0)) {
+    return "";  // Nothing to invert (other options checked elsewhere).
+  }
+  const Camera camera = SynthCamera(options);
+  const Eigen::Vector2d centre(0.5 * options.image_width,
+                               0.5 * options.image_height);
+  // Rays from the principal point to points all around the border (every
+  // ~16 pixels and the corners), sampled every ~4 pixels.
+  const double w = static_cast<double>(camera.width);
+  const double h = static_cast<double>(camera.height);
+  std::vector<Eigen::Vector2d> border;
+  const int steps_x = std::max(1, static_cast<int>(w / 16));
+  const int steps_y = std::max(1, static_cast<int>(h / 16));
+  for (int i = 0; i <= steps_x; ++i) {
+    border.emplace_back(w * i / steps_x, 0.0);
+    border.emplace_back(w * i / steps_x, h);
+  }
+  for (int i = 0; i <= steps_y; ++i) {
+    border.emplace_back(0.0, h * i / steps_y);
+    border.emplace_back(w, h * i / steps_y);
+  }
+  for (const Eigen::Vector2d& end : border) {
+    const int samples =
+        std::max(2, static_cast<int>((end - centre).norm() / 4.0));
+    double previous_radius = -1.0;
+    for (int k = 1; k <= samples; ++k) {
+      const Eigen::Vector2d pixel = centre + (end - centre) * k / samples;
+      const Eigen::Vector2d normalised = camera.CamFromImg(pixel);
+      const Eigen::Vector2d back =
+          camera.ImgFromCam(Eigen::Vector3d(normalised.x(), normalised.y(), 1));
+      const double radius = normalised.norm();
+      if (!normalised.allFinite() || (back - pixel).norm() > 1e-6 ||
+          !(radius > previous_radius)) {
+        problem << "Synthesis.camera_model " << model << " with k1 "
+                << options.camera_k1 << ", k2 " << options.camera_k2
+                << ", p1 " << options.camera_p1 << ", p2 "
+                << options.camera_p2
+                << ": the distortion is not invertible at pixel ("
+                << pixel.x() << ", " << pixel.y() << ") of the "
+                << camera.width << " x " << camera.height
+                << " image (it folds over); use smaller coefficients or a "
+                   "smaller horizontal_fov_deg";
+        return problem.str();
+      }
+      previous_radius = radius;
+    }
+  }
+  return "";
 }
 
 Rigid3d SynthCamFromLidar() {
@@ -304,10 +449,14 @@ SynthesisSummary SynthesizeDataset(const SynthesisOptions& options,
   RigCalibration calibration;
   calibration.camera = camera;
   calibration.cam_from_lidar = cam_from_lidar;
+  // calibration.yaml carries the ring count and the vertical extent; the
+  // per-ring elevations (non-uniform for HDL-64E) are in the scans' ring
+  // channel and in ground_truth/README.md.
+  const LidarGeometry lidar_geometry = SynthLidarGeometry(options);
   LidarDescription lidar;
-  lidar.rings = options.lidar_rings;
-  lidar.vertical_fov_min_deg = options.lidar_vertical_fov_min_deg;
-  lidar.vertical_fov_max_deg = options.lidar_vertical_fov_max_deg;
+  lidar.rings = static_cast<int>(lidar_geometry.ring_elevations_deg.size());
+  lidar.vertical_fov_min_deg = lidar_geometry.MinElevationDeg();
+  lidar.vertical_fov_max_deg = lidar_geometry.MaxElevationDeg();
   lidar.range_noise_m = options.lidar_range_noise_m;
   calibration.lidar = lidar;
   WriteCalibration(JoinPaths(root, "calibration.yaml"), calibration);

@@ -2,7 +2,8 @@
 // its walk path into a rig dataset (docs/dataset-format.md) plus ground
 // truth for the benchmarks:
 //
-//   <output>/calibration.yaml          PINHOLE camera, cam_from_lidar, lidar
+//   <output>/calibration.yaml          camera (model + params), cam_from_lidar,
+//                                      lidar (rings, vertical FOV, noise)
 //   <output>/images/<frame>.png        8-bit RGB, frames 000000, 000001, ...
 //   <output>/lidar/<frame>.ply         x y z intensity ring, LIDAR frame
 //   <output>/poses_gt.txt              exact world_from_cam
@@ -38,9 +39,24 @@ struct SynthesisSummary {
   double seconds = 0.0;
 };
 
-// The PINHOLE camera of the options: fx = fy = (width / 2) / tan(hfov / 2),
-// principal point at the image centre (width / 2, height / 2).
+// The camera of the options: model options.camera_model, f = fx = fy =
+// (width / 2) / tan(hfov / 2), principal point at the image centre
+// (width / 2, height / 2), then the model's distortion coefficients:
+//   PINHOLE        fx, fy, cx, cy
+//   SIMPLE_RADIAL  f, cx, cy, k1
+//   RADIAL         f, cx, cy, k1, k2
+//   OPENCV         fx, fy, cx, cy, k1, k2, p1, p2
+// Throws colmap_lidar::Error naming Synthesis.camera_model for another model.
 Camera SynthCamera(const SynthesisOptions& options);
+
+// Empty when the camera of the options can be rendered, otherwise the
+// reason: an unknown model, a coefficient the model does not have set to a
+// non-zero value, or a distortion that is not invertible over the image
+// (undistorting pixels along rays from the principal point to the image
+// border must round-trip through ImgFromCam to 1e-6 pixels and give
+// strictly increasing radii; strong barrel distortion folds over beyond
+// some radius and fails this). Used by SynthesisOptions::Check().
+std::string SynthCameraProblem(const SynthesisOptions& options);
 
 // The rig's LIDAR-to-camera transform: the LIDAR sits 10 cm above and 4 cm
 // behind the camera, its x axis (forward) along the camera's z, its y

@@ -1,5 +1,7 @@
 #include "src/synth/synthesize.h"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
@@ -137,6 +139,93 @@ TEST(Synthesize, LidarAndCameraAgreeThroughTheCalibration) {
   }
 }
 
+// A SIMPLE_RADIAL camera and a VLP-16 with dropout: calibration.yaml
+// carries the model, its parameters and the LIDAR's rings and vertical
+// field; the distorted depth maps agree with the scans projected by the
+// camera model (depth pixel (col, row) = image point (col, row)).
+TEST(Synthesize, DistortedCameraAndVelodyneThroughTheFiles) {
+  const std::string dir = JoinPaths(testing::CreateTestDir(), "quad");
+  SynthesisOptions options = TinyOptions();
+  const SynthesisOptions defaults;
+  options.lidar_model = "VLP-16";
+  options.lidar_rings = defaults.lidar_rings;
+  options.lidar_columns = defaults.lidar_columns;
+  options.lidar_dropout_probability = 0.1;
+  options.lidar_range_noise_m = 0.0;
+  options.camera_model = "SIMPLE_RADIAL";
+  options.camera_k1 = -0.1;
+  options.image_width = 212;
+  options.image_height = 120;
+  options.num_frames = 2;
+  options.survey_num_stations = 0;
+  const SynthesisSummary summary = SynthesizeDataset(options, dir);
+  // 16 x 1800 beams per scan, 10% dropped, some escape to the sky.
+  EXPECT_LT(summary.num_lidar_points, 2u * 16u * 1800u * 91u / 100u);
+  EXPECT_GT(summary.num_lidar_points, 2u * 16u * 1800u / 2u);
+  const RigCalibration calibration =
+      ReadCalibration(JoinPaths(dir, "calibration.yaml"));
+  const Camera& camera = calibration.camera;
+  ASSERT_EQ(camera.ModelName(), "SIMPLE_RADIAL");
+  ASSERT_EQ(camera.params.size(), 4u);
+  EXPECT_NEAR(camera.params[0], 106.0, 1e-9);  // 90 deg of the pinhole.
+  EXPECT_NEAR(camera.params[1], 106.0, 1e-9);
+  EXPECT_NEAR(camera.params[2], 60.0, 1e-9);
+  EXPECT_NEAR(camera.params[3], -0.1, 1e-12);
+  ASSERT_TRUE(calibration.lidar.has_value());
+  EXPECT_EQ(calibration.lidar->rings, 16);
+  EXPECT_NEAR(calibration.lidar->vertical_fov_min_deg, -15.0, 1e-9);
+  EXPECT_NEAR(calibration.lidar->vertical_fov_max_deg, 15.0, 1e-9);
+  for (const FramePose& pose : ReadPoses(JoinPaths(dir, "poses_gt.txt"))) {
+    const LidarScan scan =
+        ReadLidarScan(JoinPaths(dir, "lidar/" + pose.frame + ".ply"));
+    ASSERT_TRUE(scan.HasRings());
+    EXPECT_EQ(*std::max_element(scan.rings.begin(), scan.rings.end()), 15);
+    const DepthMap depth = DepthMap::Read(
+        JoinPaths(dir, "ground_truth/depth_maps/" + pose.frame + ".bin"));
+    ASSERT_EQ(depth.GetWidth(), 212u);
+    int num_in_image = 0;
+    int num_consistent = 0;
+    int num_folded = 0;
+    for (const Eigen::Vector3f& point : scan.points) {
+      const Eigen::Vector3d in_cam =
+          calibration.cam_from_lidar * point.cast<double>();
+      if (in_cam.z() < 1.0) continue;
+      const Eigen::Vector2d pixel = camera.ImgFromCam(in_cam);
+      // The polynomial maps some rays far outside the field of view into
+      // the image as well (it is not monotonic there): a point is seen at
+      // `pixel` only when the pixel's ray is the point's.
+      const Eigen::Vector2d ray = camera.CamFromImg(pixel);
+      if ((ray - in_cam.hnormalized()).norm() > 1e-6) {
+        num_folded += pixel.x() >= 0 && pixel.y() >= 0 &&
+                      pixel.x() < camera.width && pixel.y() < camera.height;
+        continue;
+      }
+      const int col = static_cast<int>(std::floor(pixel.x()));
+      const int row = static_cast<int>(std::floor(pixel.y()));
+      if (col < 1 || row < 1 || col + 2 >= static_cast<int>(camera.width) ||
+          row + 2 >= static_cast<int>(camera.height)) {
+        continue;
+      }
+      ++num_in_image;
+      // One of the four depth pixels around the projection (depth edges and
+      // grazing ground change within a pixel).
+      double best = 1e9;
+      for (int dr = 0; dr < 2; ++dr) {
+        for (int dc = 0; dc < 2; ++dc) {
+          best = std::min(best,
+                          std::abs(depth.Get(row + dr, col + dc) - in_cam.z()));
+        }
+      }
+      if (best < 0.01 * in_cam.z()) ++num_consistent;
+    }
+    EXPECT_GT(num_in_image, 200) << pose.frame;
+    EXPECT_GT(num_consistent, 0.95 * num_in_image) << pose.frame;
+    // Points outside the field of view that the barrel polynomial folds
+    // back into the image (r > 1 / sqrt(3 |k1|)); rejected above.
+    EXPECT_GT(num_folded, 100) << pose.frame;
+  }
+}
+
 TEST(Synthesize, DeterministicPerSeedAndRefusesToOverwrite) {
   const std::string root = testing::CreateTestDir();
   SynthesisOptions options = TinyOptions();
@@ -178,6 +267,15 @@ TEST(Synthesize, RejectsBadOptions) {
   EXPECT_FALSE(options.Check());
   options = TinyOptions();
   options.lidar_min_range_m = 200.0;
+  EXPECT_FALSE(options.Check());
+  options = TinyOptions();
+  options.lidar_model = "OS1-128";  // TinyOptions sets custom rings.
+  EXPECT_FALSE(options.Check());
+  EXPECT_THROW(SynthesizeDataset(options, testing::CreateTestDir() + "/y"),
+               Error);
+  options = TinyOptions();
+  options.camera_model = "OPENCV";
+  options.camera_k1 = -0.5;  // Folds over inside the image.
   EXPECT_FALSE(options.Check());
   EXPECT_TRUE(TinyOptions().Check());
 }
