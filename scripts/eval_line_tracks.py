@@ -20,7 +20,10 @@ Printed: tracks, mean observations per track, labelled share, and
   edge label (an unlabelled observation makes the track impure);
 - precision_labelled: the same over labelled observations only;
 - precision_collinear: like precision_labelled, collinear edges (e.g. the
-  tops of a row of windows) counting as one line.
+  tops of a row of windows) counting as one line;
+- not vertical: share of tracks whose mean world direction is more than
+  --vertical_angle_deg from the z axis (horizontal edges constrain roll and
+  height; without --segment_labels only).
 """
 import argparse
 import json
@@ -92,6 +95,7 @@ def main():
     parser.add_argument('--max_distance', type=float, default=0.15)
     parser.add_argument('--max_angle_deg', type=float, default=10.0)
     parser.add_argument('--segment_labels', default=None)
+    parser.add_argument('--vertical_angle_deg', type=float, default=20.0)
     args = parser.parse_args()
 
     true_labels = None
@@ -132,8 +136,13 @@ def main():
     num_observations = 0
     num_labelled = 0
     pure = pure_labelled = pure_collinear = 0
+    # A track is vertical when its mean world direction is within
+    # --vertical_angle_deg of the z axis (the synthesizer's up).
+    num_vertical = 0
+    cos_vertical = math.cos(math.radians(args.vertical_angle_deg))
     for track in tracks:
         labels = []
+        track_direction = [0.0, 0.0, 0.0]
         for obs in track['observations']:
             num_observations += 1
             if true_labels is not None:
@@ -151,6 +160,9 @@ def main():
             d = sub(world[1], world[0])
             n = norm(d)
             d = [x / n for x in d] if n > 0 else [1.0, 0.0, 0.0]
+            sign = 1.0 if dot(d, track_direction) >= 0 else -1.0
+            track_direction = [track_direction[i] + sign * d[i]
+                               for i in range(3)]
             best, best_distance = None, args.max_distance
             for e, (a, b) in enumerate(edges):
                 if abs(dot(d, directions[e])) < cos_max:
@@ -161,6 +173,9 @@ def main():
                     best, best_distance = e, distance
             labels.append(best)
             num_labelled += best is not None
+        if true_labels is None and norm(track_direction) > 0:
+            num_vertical += (abs(track_direction[2]) / norm(track_direction)
+                             >= cos_vertical)
         known = [l for l in labels if l is not None]
         pure += len(set(labels)) == 1 and labels[0] is not None
         pure_labelled += len(set(known)) <= 1
@@ -172,6 +187,9 @@ def main():
            ' (true edges)' if true_labels is not None else ''))
     print('precision %.2f%%, precision_labelled %.2f%%, precision_collinear %.2f%%' %
           (100.0 * pure / n, 100.0 * pure_labelled / n, 100.0 * pure_collinear / n))
+    if true_labels is None:
+        print('not vertical %.1f%% (direction more than %g deg from the z axis)' %
+              (100.0 * (len(tracks) - num_vertical) / n, args.vertical_angle_deg))
 
 
 if __name__ == '__main__':
