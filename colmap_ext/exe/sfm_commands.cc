@@ -138,7 +138,9 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
   options->AddOption(s + "init_method", &o->init_method,
                      "Initial poses: mapper (stock mapper + robust sim3 to "
                      "the priors), model (init_model_path instead of the "
-                     "mapper) or priors.");
+                     "mapper), priors, or lidar_graph (a pose graph of "
+                     "LIDAR scan registrations between consecutive and "
+                     "nearby frames with the priors as unary factors).");
   options->AddOption(s + "init_model_path", &o->init_model_path,
                      "Sparse model for init_method model.");
   options->AddOption(s + "init_min_num_inliers", &o->init_min_num_inliers,

@@ -3,13 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <sstream>
-#include <thread>
 
-#include <Eigen/SVD>
 #include <glog/logging.h>
-#include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/gicp.h>
@@ -18,112 +14,30 @@
 #include <pcl/search/kdtree.h>
 
 #include "colmap_ext/util/logging.h"
+#include "src/lidar/gicp_helpers.h"
 
 namespace colmap_lidar {
 namespace {
 
-using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using Cloud = GicpCloud;
 using KdTree = pcl::search::KdTree<pcl::PointXYZ>;
 using Gicp = pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>;
-using Covariances = Gicp::MatricesVector;
+using Covariances = GicpCovariances;
 
 // Fewer points than this after filtering: not a usable scan.
 constexpr size_t kMinNumPoints = 10;
-// GICP's regularisation of a point's covariance: eigenvalues (1, 1, eps),
-// i.e. the point is a sample of a plane (Segal et al., "plane-to-plane").
-constexpr double kGicpPlaneEpsilon = 1e-3;
-
-int NumThreads(int num_threads) {
-  if (num_threads > 0) {
-    return num_threads;
-  }
-  return std::max(1u, std::thread::hardware_concurrency());
-}
-
-// Calls body(begin, end) on contiguous chunks of [0, n) on up to
-// `num_threads` threads. `body` must only write to its own indices.
-void ParallelFor(size_t n, int num_threads,
-                 const std::function<void(size_t, size_t)>& body) {
-  const size_t num_chunks =
-      std::min<size_t>(static_cast<size_t>(NumThreads(num_threads)),
-                       std::max<size_t>(1, n / 256));
-  if (num_chunks <= 1) {
-    body(0, n);
-    return;
-  }
-  std::vector<std::thread> threads;
-  for (size_t c = 0; c < num_chunks; ++c) {
-    threads.emplace_back(body, n * c / num_chunks, n * (c + 1) / num_chunks);
-  }
-  for (std::thread& thread : threads) {
-    thread.join();
-  }
-}
-
-Eigen::Matrix4f ToMatrix4f(const Rigid3d& transform) {
-  Eigen::Matrix4f matrix = Eigen::Matrix4f::Identity();
-  matrix.topLeftCorner<3, 4>() = transform.ToMatrix().cast<float>();
-  return matrix;
-}
-
-Rigid3d FromMatrix4f(const Eigen::Matrix4f& matrix) {
-  return Rigid3d::FromMatrix(matrix.topLeftCorner<3, 4>().cast<double>());
-}
 
 // Range filter and voxel grid, in the LIDAR frame.
 Cloud::Ptr Downsample(const LidarScan& scan,
                       const LidarOdometryOptions& options) {
-  Cloud::Ptr filtered(new Cloud);
-  filtered->reserve(scan.size());
-  const float min_range2 =
-      static_cast<float>(options.min_range_m * options.min_range_m);
-  const float max_range2 =
-      static_cast<float>(options.max_range_m * options.max_range_m);
-  for (const Eigen::Vector3f& point : scan.points) {
-    const float range2 = point.squaredNorm();
-    if (range2 >= min_range2 && range2 <= max_range2) {
-      filtered->push_back(pcl::PointXYZ(point.x(), point.y(), point.z()));
-    }
-  }
-  Cloud::Ptr downsampled(new Cloud);
-  pcl::VoxelGrid<pcl::PointXYZ> voxel_grid;
-  const float leaf = static_cast<float>(options.voxel_size_m);
-  voxel_grid.setLeafSize(leaf, leaf, leaf);
-  voxel_grid.setInputCloud(filtered);
-  voxel_grid.filter(*downsampled);
-  return downsampled;
+  return RangeFilterAndDownsample(scan, options.min_range_m,
+                                  options.max_range_m, options.voxel_size_m);
 }
 
 // Per-point GICP covariances of `cloud` in its own frame.
 Covariances ComputeCovariances(const Cloud::ConstPtr& cloud, int num_neighbors,
                                int num_threads) {
-  KdTree tree;
-  tree.setInputCloud(cloud);
-  Covariances covariances(cloud->size());
-  const int k = std::min<int>(num_neighbors, static_cast<int>(cloud->size()));
-  ParallelFor(cloud->size(), num_threads, [&](size_t begin, size_t end) {
-    pcl::Indices indices;
-    std::vector<float> distances2;
-    for (size_t i = begin; i < end; ++i) {
-      tree.nearestKSearch((*cloud)[i], k, indices, distances2);
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-      for (const auto index : indices) {
-        const Eigen::Vector3d p = (*cloud)[index].getVector3fMap().cast<double>();
-        mean += p;
-        second += p * p.transpose();
-      }
-      const double n = static_cast<double>(indices.size());
-      mean /= n;
-      const Eigen::Matrix3d covariance = second / n - mean * mean.transpose();
-      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
-                                                  Eigen::ComputeFullU);
-      const Eigen::Vector3d values(1.0, 1.0, kGicpPlaneEpsilon);
-      covariances[i] =
-          svd.matrixU() * values.asDiagonal() * svd.matrixU().transpose();
-    }
-  });
-  return covariances;
+  return ComputeGicpCovariances(cloud, num_neighbors, num_threads);
 }
 
 }  // namespace

@@ -221,7 +221,8 @@ bool LidarMapperOptions::Check() const {
                      exhaustive_max_num_images);
   LIDAR_MAPPER_CHECK(sequential_overlap > 0, sequential_overlap);
   LIDAR_MAPPER_CHECK(init_method == "mapper" || init_method == "priors" ||
-                         init_method == "model",
+                         init_method == "model" ||
+                         init_method == "lidar_graph",
                      init_method);
   LIDAR_MAPPER_CHECK(init_method != "model" || !init_model_path.empty(),
                      init_model_path);
@@ -254,7 +255,8 @@ bool LidarMapperOptions::Check() const {
   LIDAR_MAPPER_CHECK(prior_position_sigma_m > 0.0, prior_position_sigma_m);
   LIDAR_MAPPER_CHECK(prior_rotation_sigma_deg > 0.0, prior_rotation_sigma_deg);
 #undef LIDAR_MAPPER_CHECK
-  return extraction.Check() && matching.Check() && adjustment.Check();
+  return extraction.Check() && matching.Check() && adjustment.Check() &&
+         (init_method != "lidar_graph" || lidar_graph.Check());
 }
 
 std::string LidarMapperSummary::Format() const {
@@ -486,7 +488,22 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
   std::unordered_map<image_t, bool> held_out;
   summary.init_used = options.init_method;
   summary.num_initial_images = static_cast<int>(model.images.size());
-  if (options.init_method != "priors") {
+  if (options.init_method == "lidar_graph") {
+    LidarPoseGraphOptions graph_options = options.lidar_graph;
+    graph_options.prior_position_sigma_m = options.prior_position_sigma_m;
+    graph_options.prior_rotation_sigma_deg = options.prior_rotation_sigma_deg;
+    graph_options.num_threads = options.num_threads;
+    const std::string database_dir =
+        std::filesystem::path(paths.database_path).parent_path().string();
+    const LidarPoseGraphResult graph = LidarGraphPoses(
+        database, database_dir.empty() ? "." : database_dir, graph_options,
+        &model);
+    LOG(INFO) << "lidar_mapper: " << graph.Format() << "\n"
+              << graph.FormatEdges();
+    WriteReconstruction(JoinPaths(work_path, "lidar_graph"), PosesOnly(model),
+                        ModelFormat::kBinary);
+    summary.init_alignment = graph.Format();
+  } else if (options.init_method != "priors") {
     // Each model (stock mapper may write several, e.g. split where the walk
     // turns on the spot) is aligned robustly on its own. Accepted models
     // give their consensus images, the largest consensus first (an image

@@ -62,6 +62,11 @@
 //   with metre-level pose errors the line association is mostly wrong.
 // - "model": like "mapper" with the model at init_model_path instead of a
 //   stock mapper run (another SfM result; also how the guards are tested).
+// - "lidar_graph": the poses of a LIDAR pose graph (src/sfm/
+//   lidar_pose_graph.h: scan registration edges between consecutive and
+//   nearby frames, the priors as unary factors) for every image; no stock
+//   mapper run. The graph's poses are also written to
+//   <workspace>/sparse/lidar_mapper/lidar_graph.
 //
 // Gauge: the pose priors (sigmas prior_position_sigma_m,
 // prior_rotation_sigma_deg) fix the world frame in every iteration
@@ -78,6 +83,7 @@
 #include "src/lines/line_extractor.h"
 #include "src/matching/line_matching_options.h"
 #include "src/optim/line_bundle_adjustment.h"
+#include "src/sfm/lidar_pose_graph.h"
 
 namespace colmap_lidar {
 
@@ -101,8 +107,8 @@ struct LidarMapperOptions {
   // on a walk mostly adds far pairs of repeated structure.
   bool sequential_quadratic_overlap = false;
 
-  // ---- Initial poses: "mapper", "priors" or "model" (see the file
-  // comment).
+  // ---- Initial poses: "mapper", "priors", "model" or "lidar_graph" (see
+  // the file comment).
   std::string init_method = "mapper";
   // Sparse model for init_method "model" (any frame and scale).
   std::string init_model_path = "";
@@ -164,6 +170,9 @@ struct LidarMapperOptions {
   LineExtractionOptions extraction;
   LineMatchingOptions matching;
   LineBundleAdjustmentOptions adjustment;
+  // init_method "lidar_graph"; lidar_mapper sets its prior sigmas and
+  // threads from the fields above.
+  LidarPoseGraphOptions lidar_graph;
 
   bool Check() const;
 };

@@ -1,0 +1,304 @@
+#include "src/lidar/scan_registration.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <glog/logging.h>
+#include <pcl/common/transforms.h>
+#include <pcl/registration/gicp.h>
+#include <pcl/search/kdtree.h>
+
+#include "colmap_ext/util/logging.h"
+#include "src/lidar/gicp_helpers.h"
+
+namespace colmap_lidar {
+namespace {
+
+using KdTree = pcl::search::KdTree<pcl::PointXYZ>;
+using Gicp =
+    pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>;
+
+constexpr size_t kMinNumPoints = 10;
+constexpr double kMinAutoVoxelM = 0.1;
+constexpr double kMaxAutoVoxelM = 0.5;
+constexpr double kPi = 3.14159265358979323846;
+
+// One resolution of a prepared scan.
+struct Level {
+  GicpCloud::Ptr cloud;
+  std::shared_ptr<GicpCovariances> covariances;
+  std::vector<Eigen::Vector3d> normals;
+  KdTree::Ptr tree;
+  double voxel_size_m = 0.0;
+};
+
+void PrepareLevel(const LidarScan& scan, const ScanRegistrationOptions& options,
+                  double voxel_size_m, Level* level) {
+  level->voxel_size_m = voxel_size_m;
+  level->cloud = RangeFilterAndDownsample(scan, options.min_range_m,
+                                          options.max_range_m, voxel_size_m);
+  THROW_CHECK(level->cloud->size() >= kMinNumPoints,
+              "scan registration: only "
+                  << level->cloud->size()
+                  << " points left after the range filter and a voxel grid "
+                     "of "
+                  << voxel_size_m << " m");
+  level->covariances = std::make_shared<GicpCovariances>(
+      ComputeGicpCovariances(level->cloud, options.num_neighbors,
+                             options.num_threads, &level->normals));
+  level->tree.reset(new KdTree);
+  level->tree->setInputCloud(level->cloud);
+}
+
+struct Overlap {
+  double fitness = 0.0;
+  double rmse_m = 0.0;
+  int num_inliers = 0;
+  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
+// Nearest target point of each source point moved by target_from_source;
+// those within max_distance_m are correspondences, with the point-to-plane
+// residual r = n . (T p - q) and its Jacobian w.r.t. a right perturbation
+// T Exp(delta): [p x (R^T n); R^T n] (see the header).
+Overlap EvaluateOverlap(const Level& source, const Level& target,
+                        const Rigid3d& target_from_source,
+                        double max_distance_m, int num_threads) {
+  const size_t n = source.cloud->size();
+  const Eigen::Matrix3d rotation =
+      target_from_source.rotation.normalized().toRotationMatrix();
+  std::vector<int> nearest(n, -1);
+  std::vector<double> residuals(n, 0.0);
+  const float max_distance2 = static_cast<float>(max_distance_m * max_distance_m);
+  ParallelFor(n, num_threads, [&](size_t begin, size_t end) {
+    pcl::Indices indices(1);
+    std::vector<float> distances2(1);
+    for (size_t i = begin; i < end; ++i) {
+      const Eigen::Vector3d p =
+          (*source.cloud)[i].getVector3fMap().cast<double>();
+      const Eigen::Vector3d moved = target_from_source * p;
+      pcl::PointXYZ query(static_cast<float>(moved.x()),
+                          static_cast<float>(moved.y()),
+                          static_cast<float>(moved.z()));
+      if (target.tree->nearestKSearch(query, 1, indices, distances2) == 1 &&
+          distances2[0] <= max_distance2) {
+        nearest[i] = indices[0];
+        const Eigen::Vector3d q =
+            (*target.cloud)[indices[0]].getVector3fMap().cast<double>();
+        residuals[i] = target.normals[indices[0]].dot(moved - q);
+      }
+    }
+  });
+  Overlap overlap;
+  double sum_squares = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    if (nearest[i] < 0) {
+      continue;
+    }
+    ++overlap.num_inliers;
+    sum_squares += residuals[i] * residuals[i];
+    const Eigen::Vector3d p = (*source.cloud)[i].getVector3fMap().cast<double>();
+    const Eigen::Vector3d normal_in_source =
+        rotation.transpose() * target.normals[nearest[i]];
+    Eigen::Matrix<double, 6, 1> jacobian;
+    jacobian << p.cross(normal_in_source), normal_in_source;
+    overlap.hessian += jacobian * jacobian.transpose();
+  }
+  overlap.fitness = n > 0 ? static_cast<double>(overlap.num_inliers) / n : 0.0;
+  overlap.rmse_m = overlap.num_inliers > 0
+                       ? std::sqrt(sum_squares / overlap.num_inliers)
+                       : 0.0;
+  if (overlap.num_inliers > 6) {
+    const double variance = sum_squares / (overlap.num_inliers - 6);
+    overlap.hessian /= std::max(variance, 1e-12);
+  } else {
+    overlap.hessian.setZero();
+  }
+  return overlap;
+}
+
+// GICP of source onto target from `guess`; returns target_from_source.
+Rigid3d RunGicp(const Level& source, const Level& target, const Rigid3d& guess,
+                double max_correspondence_distance_m,
+                const ScanRegistrationOptions& options, bool* converged) {
+  Gicp gicp;
+  gicp.setInputSource(source.cloud);
+  gicp.setSourceCovariances(source.covariances);
+  gicp.setInputTarget(target.cloud);
+  gicp.setTargetCovariances(target.covariances);
+  gicp.setSearchMethodTarget(target.tree, /*force_no_recompute=*/true);
+  gicp.setMaxCorrespondenceDistance(max_correspondence_distance_m);
+  gicp.setMaximumIterations(options.max_iterations);
+  gicp.setTransformationEpsilon(options.transformation_epsilon);
+  gicp.setRotationEpsilon(options.transformation_epsilon);
+  GicpCloud aligned;
+  gicp.align(aligned, ToMatrix4f(guess));
+  const Eigen::Matrix4f result = gicp.getFinalTransformation();
+  *converged = gicp.hasConverged() && result.allFinite();
+  return result.allFinite() ? FromMatrix4f(result) : guess;
+}
+
+// Caps the information at the floor sigmas: in the space scaled by them
+// (unit = one floor sigma) no eigenvalue may exceed 1.
+Eigen::Matrix<double, 6, 6> CapInformation(
+    const Eigen::Matrix<double, 6, 6>& information,
+    const ScanRegistrationOptions& options) {
+  Eigen::Matrix<double, 6, 1> floor_sigma;
+  const double rotation_sigma = options.min_rotation_sigma_deg * kPi / 180.0;
+  floor_sigma << rotation_sigma, rotation_sigma, rotation_sigma,
+      options.min_translation_sigma_m, options.min_translation_sigma_m,
+      options.min_translation_sigma_m;
+  const Eigen::Matrix<double, 6, 6> scale = floor_sigma.asDiagonal();
+  const Eigen::Matrix<double, 6, 6> scaled = scale * information * scale;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(
+      0.5 * (scaled + scaled.transpose()));
+  const Eigen::Matrix<double, 6, 1> values =
+      solver.eigenvalues().cwiseMax(0.0).cwiseMin(1.0);
+  const Eigen::Matrix<double, 6, 6> capped = solver.eigenvectors() *
+                                             values.asDiagonal() *
+                                             solver.eigenvectors().transpose();
+  const Eigen::Matrix<double, 6, 6> inverse_scale =
+      floor_sigma.cwiseInverse().asDiagonal();
+  return inverse_scale * capped * inverse_scale;
+}
+
+}  // namespace
+
+struct PreparedScan::Data {
+  Level fine;
+  Level coarse;
+};
+
+bool ScanRegistrationOptions::Check() const {
+#define SCAN_REGISTRATION_CHECK(condition, field)                       \
+  if (!(condition)) {                                                   \
+    LOG(ERROR) << "ScanRegistration." #field " = " << (field)           \
+               << " is out of range (" #condition ")";                  \
+    return false;                                                       \
+  }
+  SCAN_REGISTRATION_CHECK(min_range_m >= 0.0, min_range_m);
+  SCAN_REGISTRATION_CHECK(max_range_m > min_range_m, max_range_m);
+  SCAN_REGISTRATION_CHECK(voxel_size_m >= 0.0, voxel_size_m);
+  SCAN_REGISTRATION_CHECK(voxel_angle_deg > 0.0, voxel_angle_deg);
+  SCAN_REGISTRATION_CHECK(coarse_voxel_factor >= 1.0, coarse_voxel_factor);
+  SCAN_REGISTRATION_CHECK(coarse_max_correspondence_distance_m > 0.0,
+                          coarse_max_correspondence_distance_m);
+  SCAN_REGISTRATION_CHECK(fine_correspondence_voxels > 0.0,
+                          fine_correspondence_voxels);
+  SCAN_REGISTRATION_CHECK(max_iterations >= 1, max_iterations);
+  SCAN_REGISTRATION_CHECK(transformation_epsilon > 0.0,
+                          transformation_epsilon);
+  SCAN_REGISTRATION_CHECK(num_neighbors >= 3, num_neighbors);
+  SCAN_REGISTRATION_CHECK(min_translation_sigma_m > 0.0,
+                          min_translation_sigma_m);
+  SCAN_REGISTRATION_CHECK(min_rotation_sigma_deg > 0.0, min_rotation_sigma_deg);
+#undef SCAN_REGISTRATION_CHECK
+  return true;
+}
+
+double VoxelSizeForScan(const LidarScan& scan,
+                        const ScanRegistrationOptions& options) {
+  if (options.voxel_size_m > 0.0) {
+    return options.voxel_size_m;
+  }
+  std::vector<float> ranges;
+  ranges.reserve(scan.size());
+  for (const Eigen::Vector3f& point : scan.points) {
+    const float range = point.norm();
+    if (range >= options.min_range_m && range <= options.max_range_m) {
+      ranges.push_back(range);
+    }
+  }
+  if (ranges.empty()) {
+    return kMaxAutoVoxelM;
+  }
+  std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2,
+                   ranges.end());
+  const double median_range = ranges[ranges.size() / 2];
+  return std::clamp(median_range * options.voxel_angle_deg * kPi / 180.0,
+                    kMinAutoVoxelM, kMaxAutoVoxelM);
+}
+
+PreparedScan::PreparedScan(const LidarScan& scan,
+                           const ScanRegistrationOptions& options,
+                           double voxel_size_m)
+    : data_(std::make_unique<Data>()) {
+  THROW_CHECK(options.Check(), "invalid ScanRegistration options");
+  const double voxel =
+      voxel_size_m > 0.0 ? voxel_size_m : VoxelSizeForScan(scan, options);
+  PrepareLevel(scan, options, voxel, &data_->fine);
+  PrepareLevel(scan, options, voxel * options.coarse_voxel_factor,
+               &data_->coarse);
+}
+
+PreparedScan::~PreparedScan() = default;
+
+size_t PreparedScan::NumPoints() const { return data_->fine.cloud->size(); }
+
+double PreparedScan::VoxelSize() const { return data_->fine.voxel_size_m; }
+
+ScanRegistrationResult RegisterScans(
+    const PreparedScan& source, const PreparedScan& target,
+    const std::vector<Rigid3d>& target_from_source_guesses,
+    const ScanRegistrationOptions& options) {
+  THROW_CHECK(!target_from_source_guesses.empty(),
+              "RegisterScans: no initial guess");
+  THROW_CHECK(options.Check(), "invalid ScanRegistration options");
+  const Level& coarse_source = source.data().coarse;
+  const Level& coarse_target = target.data().coarse;
+  ScanRegistrationResult result;
+  // Coarse stage from every guess; the largest coarse overlap wins.
+  Rigid3d best = target_from_source_guesses[0];
+  double best_fitness = -1.0;
+  bool coarse_converged = false;
+  for (size_t g = 0; g < target_from_source_guesses.size(); ++g) {
+    bool converged = false;
+    const Rigid3d candidate = RunGicp(
+        coarse_source, coarse_target, target_from_source_guesses[g],
+        options.coarse_max_correspondence_distance_m, options, &converged);
+    const double fitness =
+        EvaluateOverlap(coarse_source, coarse_target, candidate,
+                        options.fine_correspondence_voxels *
+                            coarse_target.voxel_size_m,
+                        options.num_threads)
+            .fitness;
+    if (fitness > best_fitness) {
+      best_fitness = fitness;
+      best = candidate;
+      coarse_converged = converged;
+      result.guess_index = static_cast<int>(g);
+    }
+  }
+  // Fine stage.
+  const Level& fine_source = source.data().fine;
+  const Level& fine_target = target.data().fine;
+  const double fine_distance =
+      options.fine_correspondence_voxels * fine_target.voxel_size_m;
+  bool fine_converged = false;
+  result.target_from_source = RunGicp(fine_source, fine_target, best,
+                                      fine_distance, options, &fine_converged);
+  result.converged = coarse_converged && fine_converged;
+  result.voxel_size_m = fine_target.voxel_size_m;
+  const Overlap overlap =
+      EvaluateOverlap(fine_source, fine_target, result.target_from_source,
+                      fine_distance, options.num_threads);
+  result.fitness = overlap.fitness;
+  result.rmse_m = overlap.rmse_m;
+  result.num_correspondences = overlap.num_inliers;
+  result.information = CapInformation(overlap.hessian, options);
+  return result;
+}
+
+ScanRegistrationResult RegisterScans(const LidarScan& source,
+                                     const LidarScan& target,
+                                     const Rigid3d& target_from_source_guess,
+                                     const ScanRegistrationOptions& options) {
+  const double voxel = VoxelSizeForScan(target, options);
+  const PreparedScan prepared_source(source, options, voxel);
+  const PreparedScan prepared_target(target, options, voxel);
+  return RegisterScans(prepared_source, prepared_target,
+                       {target_from_source_guess}, options);
+}
+
+}  // namespace colmap_lidar
