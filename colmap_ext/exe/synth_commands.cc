@@ -16,7 +16,8 @@ namespace colmap_lidar {
 void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
   options->AddOption("Synthesis.preset", &synth->preset,
                      "Scene: quad (Newer-College-like 30 x 20 m courtyard) "
-                     "| street (80 m street canyon).");
+                     "| street (80 m street canyon) | corridor (64 m walk down a "
+                     "6 m alley).");
   options->AddOption("Synthesis.num_frames", &synth->num_frames,
                      "Frames (image + LIDAR scan) along the walk, >= 1.");
   options->AddOption("Synthesis.path_fraction", &synth->path_fraction,

@@ -65,6 +65,27 @@ TEST(SceneMesh, StreetCreaseEdgesLieOnCreases) {
   CheckScene(BuildStreetScene(), 500);
 }
 
+TEST(SceneMesh, CorridorCreaseEdgesLieOnCreases) {
+  const SynthScene scene = BuildScene("corridor");
+  EXPECT_EQ(scene.name, "corridor");
+  CheckScene(scene, 100);
+  // The walk stays in free space: from every waypoint at camera height,
+  // the nearest wall across the corridor is at least 1 m away.
+  const RayTracer tracer(scene.mesh);
+  for (const Eigen::Vector2d& w : scene.path.waypoints) {
+    const Eigen::Vector3d origin(w.x(), w.y(), scene.path.height_m);
+    for (const double sign : {1.0, -1.0}) {
+      const Eigen::Vector3d dir(0.0, sign, 0.0);
+      const RayHit hit = tracer.Intersect(origin, dir);
+      ASSERT_TRUE(hit.Valid());
+      EXPECT_GT(hit.distance, 1.0);
+      // Seen from inside free space, the wall faces the camera.
+      EXPECT_LT(tracer.mesh().normals[hit.triangle].cast<double>().dot(dir),
+                0.0);
+    }
+  }
+}
+
 TEST(SceneMesh, DisplacedEdgesAreRejected) {
   // The checker must fail for edges that are not on a crease: shift every
   // edge by 5 cm into the free space in front of it, or flip its convexity.

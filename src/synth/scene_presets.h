@@ -51,6 +51,10 @@ SynthScene BuildQuadScene();
 // and bollards; the rig walks 50 m along it, sweeping its view from one
 // side to the other.
 SynthScene BuildStreetScene();
+// "corridor": a 64 m straight walk down the middle of a 6 m wide alley
+// (x in [-40, 40], walls at y = +-3, 14-17 m high, few openings), looking
+// forward +-8 degrees; the roll about the straight path is weakly observed.
+SynthScene BuildCorridorScene();
 // Throws colmap_lidar::Error on an unknown preset name.
 SynthScene BuildScene(const std::string& preset);
 

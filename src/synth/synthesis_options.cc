@@ -14,9 +14,9 @@ namespace colmap_lidar {
   }
 
 bool SynthesisOptions::Check() const {
-  if (preset != "quad" && preset != "street") {
-    LOG(ERROR) << "Synthesis.preset must be quad or street, got '" << preset
-               << "'";
+  if (preset != "quad" && preset != "street" && preset != "corridor") {
+    LOG(ERROR) << "Synthesis.preset must be quad, street or corridor, got '"
+               << preset << "'";
     return false;
   }
   SYNTH_CHECK_OPTION(num_frames >= 1);

@@ -23,7 +23,8 @@ namespace colmap_lidar {
 
 struct SynthesisOptions {
   // Scene preset: "quad" (Newer-College-like courtyard, 30 x 20 m, enclosed
-  // by buildings) or "street" (a straight 12 m wide street canyon).
+  // by buildings), "street" (a straight 12 m wide street canyon) or
+  // "corridor" (a 6 m wide alley walked straight down the middle).
   std::string preset = "quad";
   // Number of frames (image + scan) along the trajectory.
   int num_frames = 60;
