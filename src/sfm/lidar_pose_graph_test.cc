@@ -8,15 +8,12 @@
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/logging.h"
+#include "src/lidar/lidar_test_scene.h"
 
 namespace colmap_lidar {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double RotationErrorDeg(const Rigid3d& a, const Rigid3d& b) {
-  return a.rotation.angularDistance(b.rotation) * 180.0 / kPi;
-}
 
 Rigid3d Pose(double yaw_deg, double roll_deg, const Eigen::Vector3d& t) {
   return Rigid3d(Eigen::Quaterniond(
@@ -32,16 +29,6 @@ Rigid3d CamFromLidar() {
   Eigen::Matrix3x4d matrix;
   matrix << 0, -1, 0, 0, 0, 0, -1, -0.1, 1, 0, 0, -0.04;
   return Rigid3d::FromMatrix(matrix);
-}
-
-void SampleRectangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& u,
-                     const Eigen::Vector3d& v, double points_per_m2,
-                     std::mt19937* rng, std::vector<Eigen::Vector3d>* points) {
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const int n = static_cast<int>(u.cross(v).norm() * points_per_m2);
-  for (int i = 0; i < n; ++i) {
-    points->push_back(origin + unit(*rng) * u + unit(*rng) * v);
-  }
 }
 
 // A courtyard (ground, four walls of different heights, a ramp and two
