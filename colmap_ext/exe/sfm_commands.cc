@@ -55,6 +55,12 @@ void AddAdjustmentOptions(LineBundleAdjustmentOptions* o, AdjustmentNames* n,
                      "TRIVIAL, HUBER, SOFT_L1 or CAUCHY.");
   options->AddOption(s + "lidar_loss_scale", &o->lidar_loss_scale,
                      "LIDAR loss scale, in lidar_sigma_m units, > 0.");
+  options->AddOption(s + "lidar_edge_weight", &o->lidar_edge_weight,
+                     "Weight of the LIDAR registration edges (lidar_mapper "
+                     "with init_method lidar_graph), >= 0; 0 = off.");
+  options->AddOption(s + "lidar_edge_loss_scale", &o->lidar_edge_loss_scale,
+                     "Cauchy loss scale of the LIDAR edges, whitened units "
+                     "(sigmas), > 0.");
   if (with_gauge_and_priors) {
     options->AddOption(s + "prior_position_sigma_m",
                        &o->prior_position_sigma_m,

@@ -293,6 +293,84 @@ class PosePriorCostFunctor {
   const double inv_rotation_sigma_;
 };
 
+// Relative LIDAR pose edge (a scan registration kept from the LIDAR pose
+// graph, src/sfm/lidar_pose_graph.h) in the adjuster's parameterisation.
+// With P_i, P_j = cam_from_world of images i and j, the fixed cam_from_lidar
+// C_i, C_j and the measurement M = lidar_i_from_lidar_j:
+//
+//   E = M^-1 * C_i^-1 * P_i * P_j^-1 * C_j      (identity when consistent)
+//   r = S * [AngleAxis(E.R); E.t]               (6, whitened)
+//
+// This is exactly RelativePoseCostFunctor's E (P = W^-1), so the same
+// square-root information S (S^T S = Lambda of the registration, right
+// perturbation of lidar_i_from_lidar_j, rotation first) applies.
+class RelativeLidarPoseCostFunctor {
+ public:
+  RelativeLidarPoseCostFunctor(
+      const Rigid3d& lidar_i_from_lidar_j, const Rigid3d& cam_from_lidar_i,
+      const Rigid3d& cam_from_lidar_j,
+      const Eigen::Matrix<double, 6, 6>& sqrt_information)
+      : measured_inverse_(lidar_i_from_lidar_j.Inverse()),
+        lidar_i_from_cam_i_(cam_from_lidar_i.Inverse()),
+        cam_j_from_lidar_j_(cam_from_lidar_j),
+        sqrt_information_(sqrt_information) {}
+
+  static ceres::CostFunction* Create(
+      const Rigid3d& lidar_i_from_lidar_j, const Rigid3d& cam_from_lidar_i,
+      const Rigid3d& cam_from_lidar_j,
+      const Eigen::Matrix<double, 6, 6>& sqrt_information) {
+    return new ceres::AutoDiffCostFunction<RelativeLidarPoseCostFunctor, 6, 4,
+                                           3, 4, 3>(
+        new RelativeLidarPoseCostFunctor(lidar_i_from_lidar_j,
+                                         cam_from_lidar_i, cam_from_lidar_j,
+                                         sqrt_information));
+  }
+
+  template <typename T>
+  bool operator()(const T* cam_i_from_world_rotation,
+                  const T* cam_i_from_world_translation,
+                  const T* cam_j_from_world_rotation,
+                  const T* cam_j_from_world_translation, T* residuals) const {
+    using Quaternion = Eigen::Quaternion<T>;
+    using Vector3 = Eigen::Matrix<T, 3, 1>;
+    const Eigen::Map<const Quaternion> pi_q(cam_i_from_world_rotation);
+    const Eigen::Map<const Vector3> pi_t(cam_i_from_world_translation);
+    const Eigen::Map<const Quaternion> pj_q(cam_j_from_world_rotation);
+    const Eigen::Map<const Vector3> pj_t(cam_j_from_world_translation);
+    // cam_i_from_cam_j = P_i * P_j^-1.
+    const Quaternion rel_q = pi_q * pj_q.conjugate();
+    const Vector3 rel_t = pi_t - rel_q * pj_t;
+    // lidar_i_from_lidar_j = C_i^-1 * rel * C_j.
+    const Quaternion cj_q = cam_j_from_lidar_j_.rotation.cast<T>();
+    const Vector3 cj_t = cam_j_from_lidar_j_.translation.cast<T>();
+    const Quaternion ci_q = lidar_i_from_cam_i_.rotation.cast<T>();
+    const Vector3 ci_t = lidar_i_from_cam_i_.translation.cast<T>();
+    const Quaternion est_q = ci_q * rel_q * cj_q;
+    const Vector3 est_t = ci_q * (rel_q * cj_t + rel_t) + ci_t;
+    // E = M^-1 * est.
+    const Quaternion m_q = measured_inverse_.rotation.cast<T>();
+    const Vector3 m_t = measured_inverse_.translation.cast<T>();
+    const Quaternion error_q = m_q * est_q;
+    const Vector3 error_t = m_q * est_t + m_t;
+    const T error_wxyz[4] = {error_q.w(), error_q.x(), error_q.y(),
+                             error_q.z()};
+    T angle_axis[3];
+    ceres::QuaternionToAngleAxis(error_wxyz, angle_axis);
+    Eigen::Matrix<T, 6, 1> error;
+    error << angle_axis[0], angle_axis[1], angle_axis[2], error_t[0],
+        error_t[1], error_t[2];
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> whitened(residuals);
+    whitened = sqrt_information_.cast<T>() * error;
+    return true;
+  }
+
+ private:
+  const Rigid3d measured_inverse_;
+  const Rigid3d lidar_i_from_cam_i_;
+  const Rigid3d cam_j_from_lidar_j_;
+  const Eigen::Matrix<double, 6, 6> sqrt_information_;
+};
+
 // Runtime dispatch on the camera model id (throws colmap_lidar::Error for
 // an unknown id).
 inline ceres::CostFunction* CreatePointReprojectionCostFunction(

@@ -269,5 +269,72 @@ TEST(PosePriorCostFunctor, ValuesAndGradients) {
                        {generic.rotation.coeffs().data(), generic.translation.data()});
 }
 
+// Two cameras with different cam_from_lidar; the measurement is the true
+// lidar_i_from_lidar_j times a known error E^-1, so the residual must be
+// S [AngleAxis(E.R); E.t] (the convention of RelativePoseCostFunctor in
+// src/sfm/lidar_pose_graph.h, whose information matrix it reuses).
+TEST(RelativeLidarPoseCostFunctor, ValuesAndGradients) {
+  Fixture f;
+  const Rigid3d cam_i_from_world = f.cam_from_world;
+  const Rigid3d cam_j_from_world(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d(-1, 1, 2).normalized())) *
+          cam_i_from_world.rotation,
+      cam_i_from_world.translation + Eigen::Vector3d(0.8, -0.1, 0.3));
+  const Rigid3d cam_from_lidar_i(
+      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())),
+      Eigen::Vector3d(0.05, -0.1, 0.02));
+  const Rigid3d cam_from_lidar_j(
+      Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY())),
+      Eigen::Vector3d(-0.03, 0.08, 0.1));
+  const Rigid3d true_lidar_i_from_lidar_j = cam_from_lidar_i.Inverse() *
+                                            cam_i_from_world *
+                                            cam_j_from_world.Inverse() *
+                                            cam_from_lidar_j;
+  Eigen::Matrix<double, 6, 6> sqrt_information = Eigen::Matrix<double, 6, 6>::Zero();
+  sqrt_information.diagonal() << 100, 200, 300, 10, 20, 30;
+  const double* parameters[4] = {
+      cam_i_from_world.rotation.coeffs().data(), cam_i_from_world.translation.data(),
+      cam_j_from_world.rotation.coeffs().data(), cam_j_from_world.translation.data()};
+  double residuals[6];
+
+  // Consistent measurement: zero residual.
+  {
+    const std::unique_ptr<ceres::CostFunction> cost(RelativeLidarPoseCostFunctor::Create(
+        true_lidar_i_from_lidar_j, cam_from_lidar_i, cam_from_lidar_j, sqrt_information));
+    ASSERT_TRUE(cost->Evaluate(parameters, residuals, nullptr));
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(residuals[k], 0.0, 1e-9) << k;
+  }
+
+  // Known error E: 1 deg about z, (0.1, -0.2, 0) m.
+  const double angle = M_PI / 180.0;
+  const Rigid3d error(Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ())),
+                      Eigen::Vector3d(0.1, -0.2, 0.0));
+  const std::unique_ptr<ceres::CostFunction> cost(RelativeLidarPoseCostFunctor::Create(
+      true_lidar_i_from_lidar_j * error.Inverse(), cam_from_lidar_i, cam_from_lidar_j,
+      sqrt_information));
+  ASSERT_TRUE(cost->Evaluate(parameters, residuals, nullptr));
+  EXPECT_NEAR(residuals[0], 0.0, 1e-7);
+  EXPECT_NEAR(residuals[1], 0.0, 1e-7);
+  EXPECT_NEAR(residuals[2], 300.0 * angle, 1e-7);
+  EXPECT_NEAR(residuals[3], 10.0 * 0.1, 1e-7);
+  EXPECT_NEAR(residuals[4], 20.0 * -0.2, 1e-7);
+  EXPECT_NEAR(residuals[5], 0.0, 1e-7);
+
+  // Gradients with a dense S (a diagonal S with the 90 deg mounts makes
+  // Jacobian entries exactly zero, where relative errors mean nothing).
+  Eigen::Matrix<double, 6, 6> dense_sqrt_information = sqrt_information;
+  dense_sqrt_information.array() += 5.0;
+  const std::unique_ptr<ceres::CostFunction> dense_cost(RelativeLidarPoseCostFunctor::Create(
+      true_lidar_i_from_lidar_j * error.Inverse(), cam_from_lidar_i, cam_from_lidar_j,
+      dense_sqrt_information));
+  const ceres::EigenQuaternionManifold quaternion_manifold;
+  Rigid3d generic_i = cam_i_from_world;
+  Rigid3d generic_j = cam_j_from_world;
+  generic_j.translation += Eigen::Vector3d(0.2, -0.1, 0.3);
+  ExpectGradientsMatch(*dense_cost, {&quaternion_manifold, nullptr, &quaternion_manifold, nullptr},
+                       {generic_i.rotation.coeffs().data(), generic_i.translation.data(),
+                        generic_j.rotation.coeffs().data(), generic_j.translation.data()});
+}
+
 }  // namespace
 }  // namespace colmap_lidar

@@ -151,6 +151,8 @@ bool LineBundleAdjustmentOptions::Check() const {
   LINE_BA_CHECK(point_loss_scale > 0.0, point_loss_scale);
   LINE_BA_CHECK(line_loss_scale > 0.0, line_loss_scale);
   LINE_BA_CHECK(lidar_loss_scale > 0.0, lidar_loss_scale);
+  LINE_BA_CHECK(lidar_edge_weight >= 0.0, lidar_edge_weight);
+  LINE_BA_CHECK(lidar_edge_loss_scale > 0.0, lidar_edge_loss_scale);
   LINE_BA_CHECK(prior_position_sigma_m >= 0.0, prior_position_sigma_m);
   LINE_BA_CHECK(prior_rotation_sigma_deg >= 0.0, prior_rotation_sigma_deg);
   LINE_BA_CHECK((prior_position_sigma_m > 0.0) ==
@@ -178,14 +180,16 @@ std::string LineBundleAdjustmentSummary::ToString() const {
          << num_points << ", lines " << num_lines << " (" << num_skipped_lines
          << " skipped); residuals: point " << num_point_residuals << ", line "
          << num_line_residuals << ", lidar " << num_lidar_residuals
-         << ", prior " << num_pose_prior_residuals << "; cost "
+         << ", prior " << num_pose_prior_residuals << ", lidar edge "
+         << num_lidar_edge_residuals << "; cost "
          << initial_cost << " -> " << final_cost << " in " << num_iterations
          << " iterations, " << solve_time_s << " s, "
          << num_retriangulated_points
          << " points re-triangulated; mean point error "
          << mean_point_error_px << " px, mean line error "
          << mean_line_error_px << " px, rms lidar distance "
-         << rms_lidar_distance_m << " m";
+         << rms_lidar_distance_m << " m, mean whitened lidar edge error "
+         << mean_lidar_edge_error;
   return stream.str();
 }
 
@@ -198,6 +202,35 @@ LineBundleAdjuster::LineBundleAdjuster(
 void LineBundleAdjuster::SetPosePriors(
     std::unordered_map<image_t, Rigid3d> cam_from_world_priors) {
   cam_from_world_priors_ = std::move(cam_from_world_priors);
+}
+
+void LineBundleAdjuster::SetRelativePoseEdges(
+    std::vector<RelativePoseEdge> edges) {
+  relative_pose_edges_ = std::move(edges);
+}
+
+double ComputeRelativePoseEdgeError(const Reconstruction& reconstruction,
+                                    const RelativePoseEdge& edge) {
+  const Image* image1 = reconstruction.FindImage(edge.image_id1);
+  const Image* image2 = reconstruction.FindImage(edge.image_id2);
+  if (image1 == nullptr || image2 == nullptr) {
+    return -1.0;
+  }
+  const std::unique_ptr<ceres::CostFunction> cost(
+      RelativeLidarPoseCostFunctor::Create(edge.lidar1_from_lidar2,
+                                           edge.cam1_from_lidar,
+                                           edge.cam2_from_lidar,
+                                           edge.sqrt_information));
+  const double* parameters[4] = {
+      image1->cam_from_world.rotation.coeffs().data(),
+      image1->cam_from_world.translation.data(),
+      image2->cam_from_world.rotation.coeffs().data(),
+      image2->cam_from_world.translation.data()};
+  Eigen::Matrix<double, 6, 1> residuals;
+  if (!cost->Evaluate(parameters, residuals.data(), nullptr)) {
+    return -1.0;
+  }
+  return residuals.norm();
 }
 
 double ComputeLineReprojectionError(const Reconstruction& reconstruction,
@@ -238,6 +271,7 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
   const bool use_lines = options_.lambda_L > 0.0;
   const bool use_lidar = options_.lambda_lidar > 0.0;
   const bool use_priors = options_.prior_position_sigma_m > 0.0;
+  const bool use_edges = options_.lidar_edge_weight > 0.0;
 
   for (Image& image : reconstruction->images) {
     image.cam_from_world.rotation.normalize();
@@ -304,6 +338,21 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
       }
     }
   }
+  // LIDAR edges between two images of the reconstruction (6 constraints
+  // each).
+  std::vector<const RelativePoseEdge*> edges;
+  if (use_edges) {
+    for (const RelativePoseEdge& edge : relative_pose_edges_) {
+      if (edge.image_id1 == edge.image_id2 ||
+          find_image(edge.image_id1) == nullptr ||
+          find_image(edge.image_id2) == nullptr) {
+        continue;
+      }
+      edges.push_back(&edge);
+      num_constraints[image_index.at(edge.image_id1)] += 6;
+      num_constraints[image_index.at(edge.image_id2)] += 6;
+    }
+  }
   summary.num_points = static_cast<int>(point_ids.size());
   summary.num_lines = static_cast<int>(line_indices.size());
 
@@ -316,6 +365,9 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
   const std::unique_ptr<ceres::LossFunction> lidar_loss =
       CreateLoss(options_.lidar_loss_type, options_.lidar_loss_scale,
                  options_.lambda_lidar);
+  const std::unique_ptr<ceres::LossFunction> edge_loss =
+      CreateLoss(LineBALossType::kCauchy, options_.lidar_edge_loss_scale,
+                 options_.lidar_edge_weight);
   const auto quaternion_manifold =
       std::make_unique<ceres::EigenQuaternionManifold>();
   const auto line_manifold = std::make_unique<OrthonormalLineManifold>();
@@ -391,6 +443,24 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
     }
   }
 
+  for (const RelativePoseEdge* edge : edges) {
+    Image& image1 = *find_image(edge->image_id1);
+    Image& image2 = *find_image(edge->image_id2);
+    problem.AddResidualBlock(
+        RelativeLidarPoseCostFunctor::Create(
+            edge->lidar1_from_lidar2, edge->cam1_from_lidar,
+            edge->cam2_from_lidar, edge->sqrt_information),
+        edge_loss.get(), image1.cam_from_world.rotation.coeffs().data(),
+        image1.cam_from_world.translation.data(),
+        image2.cam_from_world.rotation.coeffs().data(),
+        image2.cam_from_world.translation.data());
+    ++summary.num_lidar_edge_residuals;
+    // Not use_image: an edge does not involve the camera parameters, which
+    // may then be absent from the problem.
+    image_used[image_index.at(image1.image_id)] = true;
+    image_used[image_index.at(image2.image_id)] = true;
+  }
+
   // Poses: manifolds, priors, gauge, under-constrained images.
   const double rotation_sigma_rad =
       options_.prior_rotation_sigma_deg * M_PI / 180.0;
@@ -440,7 +510,8 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
     problem.SetParameterBlockConstant(image.cam_from_world.translation.data());
     ++summary.num_fixed_images;
   }
-  if (!use_priors && summary.num_lidar_residuals == 0 && first_image >= 0 &&
+  if (!use_priors && summary.num_lidar_residuals == 0 &&
+      summary.num_lidar_edge_residuals == 0 && first_image >= 0 &&
       second_image >= 0) {
     // No metric information: fix the scale through one coordinate of the
     // second image's translation.
@@ -616,6 +687,13 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
   }
   if (lidar_count > 0) {
     summary.rms_lidar_distance_m = std::sqrt(lidar_squared_sum / lidar_count);
+  }
+  if (!edges.empty()) {
+    double edge_error_sum = 0.0;
+    for (const RelativePoseEdge* edge : edges) {
+      edge_error_sum += ComputeRelativePoseEdgeError(*reconstruction, *edge);
+    }
+    summary.mean_lidar_edge_error = edge_error_sum / edges.size();
   }
   LOG(INFO) << "Line bundle adjustment: " << summary.ToString();
   if (!summary.usable) {

@@ -35,11 +35,21 @@
 // (their observations still constrain the points and lines), unless pose
 // priors are enabled, which constrain every image. An image with no lines
 // but enough points (or no points but enough lines) is a normal image.
+//
+// LIDAR registration edges (SetRelativePoseEdges, e.g. the accepted edges
+// of the LIDAR pose graph, src/sfm/lidar_pose_graph.h) add
+// + lidar_edge_weight sum rho_E(|S r_ij|^2)
+// with RelativeLidarPoseCostFunctor (cost_functions.h) per edge whose two
+// images are both in the reconstruction: the relative poses stay consistent
+// with the scan registrations. An edge gives each of its images 6 scalar
+// constraints and fixes the metric scale.
 #pragma once
 
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "colmap_ext/scene/reconstruction.h"
 #include "src/optim/line_track.h"
@@ -56,6 +66,20 @@ std::string LineBALossTypeName(LineBALossType loss_type);
 // "FIX_FIRST_POSE", "POSE_PRIORS" <-> enum; throws on an unknown name.
 LineBAGauge LineBAGaugeFromName(const std::string& name);
 std::string LineBAGaugeName(LineBAGauge gauge);
+
+// A relative pose measured between the LIDAR frames of two images (a scan
+// registration), with its 6x6 square-root information S (S^T S = Lambda,
+// rotation (rad) first, then translation (m); the convention of
+// RelativePoseCostFunctor in src/sfm/lidar_pose_graph.h).
+struct RelativePoseEdge {
+  image_t image_id1 = kInvalidImageId;
+  image_t image_id2 = kInvalidImageId;
+  Rigid3d lidar1_from_lidar2;
+  Rigid3d cam1_from_lidar;
+  Rigid3d cam2_from_lidar;
+  Eigen::Matrix<double, 6, 6> sqrt_information =
+      Eigen::Matrix<double, 6, 6>::Identity();
+};
 
 struct LineBundleAdjustmentOptions {
   // Weight lambda_R of the point reprojection errors (eq. 3); 0 disables
@@ -80,6 +104,14 @@ struct LineBundleAdjustmentOptions {
   double line_loss_scale = 2.0;
   LineBALossType lidar_loss_type = LineBALossType::kCauchy;
   double lidar_loss_scale = 3.0;
+
+  // Weight of the LIDAR registration edges (SetRelativePoseEdges); 0
+  // disables them. Their Cauchy loss scale is in whitened units (sigmas of
+  // the registration's information): 3 keeps a correct registration's
+  // residuals (chi-square with 6 DoF, 99% below 4.1 sigma in norm) mostly in
+  // the quadratic part and down-weights a wrong registration.
+  double lidar_edge_weight = 1.0;
+  double lidar_edge_loss_scale = 3.0;
 
   // Pose priors on camera centre (metres) and orientation (degrees), on the
   // poses given to LineBundleAdjuster::SetPosePriors or, by default, the
@@ -142,6 +174,7 @@ struct LineBundleAdjustmentSummary {
   int num_line_residuals = 0;
   int num_lidar_residuals = 0;
   int num_pose_prior_residuals = 0;
+  int num_lidar_edge_residuals = 0;
   // Ceres costs (1/2 sum of weighted robustified squared residuals).
   double initial_cost = 0.0;
   double final_cost = 0.0;
@@ -157,6 +190,9 @@ struct LineBundleAdjustmentSummary {
   double mean_line_error_px = -1.0;
   // Root mean of the LIDAR endpoint distances to the lines, metres.
   double rms_lidar_distance_m = -1.0;
+  // Mean whitened error |S r| of the LIDAR edges after the solve (-1 when
+  // none); about sqrt(6) = 2.4 for registrations with correct information.
+  double mean_lidar_edge_error = -1.0;
 
   std::string ToString() const;
 };
@@ -168,6 +204,10 @@ class LineBundleAdjuster {
   // Prior cam_from_world per image id, used when the pose-prior sigmas are
   // > 0; images without an entry use their input pose as the prior.
   void SetPosePriors(std::unordered_map<image_t, Rigid3d> cam_from_world_priors);
+
+  // LIDAR registration edges, used when lidar_edge_weight > 0; edges with
+  // an image missing from the reconstruction are skipped.
+  void SetRelativePoseEdges(std::vector<RelativePoseEdge> edges);
 
   // Refines reconstruction->images[*].cam_from_world, points3D[*].xyz (and
   // .error), camera parameters (if enabled) and each usable line track's
@@ -182,7 +222,13 @@ class LineBundleAdjuster {
  private:
   LineBundleAdjustmentOptions options_;
   std::unordered_map<image_t, Rigid3d> cam_from_world_priors_;
+  std::vector<RelativePoseEdge> relative_pose_edges_;
 };
+
+// Whitened error |S r| of a LIDAR edge under the reconstruction's current
+// poses; -1 when an image of the edge is missing.
+double ComputeRelativePoseEdgeError(const Reconstruction& reconstruction,
+                                    const RelativePoseEdge& edge);
 
 // Mean distance (pixels) of a track's observed endpoints to its projected
 // line, with the current poses (the residual of cost_functions.h); -1 when

@@ -387,6 +387,100 @@ TEST(LineBundleAdjuster, ViewsWithoutLinesOrPoints) {
   }
 }
 
+// Image 8 has no observations; LIDAR edges 7-8 and 8-9 (from the true
+// poses, with a LIDAR mounted differently from the camera) constrain it.
+TEST(LineBundleAdjuster, RelativePoseEdgesConstrainAnImageWithoutObservations) {
+  const auto make_problem = [] {
+    SyntheticProblem problem = MakeSyntheticProblem(3);
+    for (LineTrack& track : problem.line_tracks) {
+      auto& observations = track.observations;
+      observations.erase(std::remove_if(observations.begin(), observations.end(),
+                                        [](const LineObservation& observation) {
+                                          return observation.image_id == 8;
+                                        }),
+                         observations.end());
+    }
+    for (auto& [point3D_id, point3D] : problem.reconstruction.points3D) {
+      auto& track = point3D.track;
+      track.erase(std::remove_if(track.begin(), track.end(),
+                                 [](const TrackElement& element) {
+                                   return element.image_id == 8;
+                                 }),
+                  track.end());
+    }
+    for (Point2D& point2D : problem.reconstruction.FindImage(8)->points2D) {
+      point2D.point3D_id = kInvalidPoint3DId;
+    }
+    return problem;
+  };
+  const Rigid3d cam_from_lidar(
+      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())),
+      Eigen::Vector3d(0.05, -0.1, 0.02));
+  std::vector<RelativePoseEdge> edges;
+  SyntheticProblem reference = make_problem();
+  for (const auto& [id1, id2] : {std::pair<image_t, image_t>{7, 8}, {8, 9}}) {
+    RelativePoseEdge edge;
+    edge.image_id1 = id1;
+    edge.image_id2 = id2;
+    edge.cam1_from_lidar = cam_from_lidar;
+    edge.cam2_from_lidar = cam_from_lidar;
+    edge.lidar1_from_lidar2 = cam_from_lidar.Inverse() *
+                              reference.true_cam_from_world[id1 - 1] *
+                              reference.true_cam_from_world[id2 - 1].Inverse() *
+                              cam_from_lidar;
+    // 1 mrad, 1 cm.
+    edge.sqrt_information.diagonal() << 1000, 1000, 1000, 100, 100, 100;
+    edges.push_back(edge);
+  }
+  // An edge to an image that does not exist is skipped.
+  edges.push_back(edges[0]);
+  edges.back().image_id2 = 99;
+
+  const Rigid3d& truth = reference.true_cam_from_world[7];
+  const auto error_m = [&](const SyntheticProblem& problem) {
+    return (problem.reconstruction.FindImage(8)->cam_from_world.Inverse().translation -
+            truth.Inverse().translation)
+        .norm();
+  };
+
+  // Without edges (weight 0) image 8 is unconstrained and keeps its pose.
+  {
+    SyntheticProblem problem = make_problem();
+    LineBundleAdjustmentOptions options = TestOptions();
+    options.lidar_edge_weight = 0.0;
+    LineBundleAdjuster adjuster(options);
+    adjuster.SetRelativePoseEdges(edges);
+    const LineBundleAdjustmentSummary summary =
+        adjuster.Solve(&problem.reconstruction, &problem.line_tracks);
+    EXPECT_EQ(summary.num_lidar_edge_residuals, 0);
+    EXPECT_EQ(summary.mean_lidar_edge_error, -1.0);
+    ASSERT_EQ(summary.unconstrained_image_ids.size(), 1u);
+    EXPECT_EQ(summary.unconstrained_image_ids[0], 8u);
+    EXPECT_GT(error_m(problem), 0.1);
+  }
+
+  SyntheticProblem problem = make_problem();
+  LineBundleAdjuster adjuster(TestOptions());
+  adjuster.SetRelativePoseEdges(edges);
+  const LineBundleAdjustmentSummary summary =
+      adjuster.Solve(&problem.reconstruction, &problem.line_tracks);
+  LOG(INFO) << summary.ToString();
+  EXPECT_TRUE(summary.usable);
+  EXPECT_EQ(summary.num_lidar_edge_residuals, 2);
+  EXPECT_EQ(summary.num_images, 10);
+  EXPECT_TRUE(summary.unconstrained_image_ids.empty());
+  EXPECT_GE(summary.mean_lidar_edge_error, 0.0);
+  EXPECT_LT(summary.mean_lidar_edge_error, 3.0);
+  EXPECT_LT(error_m(problem), 0.01);
+  EXPECT_LT(problem.reconstruction.FindImage(8)->cam_from_world.rotation.angularDistance(
+                truth.rotation) * 180.0 / M_PI,
+            0.1);
+  for (size_t e = 0; e < 2; ++e) {
+    EXPECT_LT(ComputeRelativePoseEdgeError(problem.reconstruction, edges[e]), 3.0);
+  }
+  EXPECT_EQ(ComputeRelativePoseEdgeError(problem.reconstruction, edges[2]), -1.0);
+}
+
 TEST(LineBundleAdjuster, SingleViewLidarLine) {
   SyntheticProblem problem = MakeSyntheticProblem(4);
   // Line 0 only in image 3 (with LIDAR): determined by LIDAR + one view.

@@ -207,6 +207,91 @@ double RotationAngleDeg(const Eigen::Quaterniond& a,
   return a.normalized().angularDistance(b.normalized()) * 180.0 / M_PI;
 }
 
+// The check of the final poses against the LIDAR edges (see
+// LidarMapperSummary): a correct edge's squared whitened error is below the
+// chi-square(6) 99.9 % quantile; frames with an edge beyond it are logged.
+// When the final poses violate the edges much more than the input poses
+// (the graph's) did, the input poses are restored; the points and lines
+// stay those of the final iteration.
+void CheckLidarEdges(const std::vector<RelativePoseEdge>& edges,
+                     const std::unordered_map<image_t, Rigid3d>& input_poses,
+                     Reconstruction* model, LidarMapperSummary* summary) {
+  constexpr double kChi2Dof6Quantile999 = 22.458;
+  Reconstruction input = *model;
+  for (Image& image : input.images) {
+    const auto it = input_poses.find(image.image_id);
+    if (it != input_poses.end()) {
+      image.cam_from_world = it->second;
+    }
+  }
+  double sum_input = 0.0;
+  double sum_final = 0.0;
+  int count = 0;
+  std::unordered_map<image_t, double> worst_of_frame;
+  for (const RelativePoseEdge& edge : edges) {
+    const double error_input = ComputeRelativePoseEdgeError(input, edge);
+    const double error_final = ComputeRelativePoseEdgeError(*model, edge);
+    if (error_input < 0.0 || error_final < 0.0) {
+      continue;
+    }
+    sum_input += error_input;
+    sum_final += error_final;
+    ++count;
+    for (const image_t image_id : {edge.image_id1, edge.image_id2}) {
+      double& worst = worst_of_frame[image_id];
+      worst = std::max(worst, error_final);
+    }
+  }
+  if (count == 0) {
+    return;
+  }
+  summary->lidar_edge_error_input = sum_input / count;
+  summary->lidar_edge_error_final = sum_final / count;
+  std::vector<std::pair<double, image_t>> violated;
+  for (const auto& [image_id, worst] : worst_of_frame) {
+    if (worst * worst > kChi2Dof6Quantile999) {
+      violated.emplace_back(worst, image_id);
+    }
+  }
+  std::sort(violated.rbegin(), violated.rend());
+  summary->num_lidar_edge_violated_frames = static_cast<int>(violated.size());
+  if (!violated.empty()) {
+    std::ostringstream worst;
+    for (size_t k = 0; k < std::min<size_t>(5, violated.size()); ++k) {
+      worst << " " << model->FindImage(violated[k].second)->name << " ("
+            << violated[k].first << ")";
+    }
+    LOG(WARNING) << "lidar_mapper: " << violated.size()
+                 << " frames violate a LIDAR edge beyond the chi-square(6) "
+                    "99.9 % quantile after the iterations; worst (whitened "
+                    "error):"
+                 << worst.str();
+  }
+  // Expected whitened norm of a correct edge: sqrt(6).
+  if (summary->lidar_edge_error_final > 2.0 * summary->lidar_edge_error_input &&
+      summary->lidar_edge_error_final - summary->lidar_edge_error_input >
+          std::sqrt(6.0)) {
+    for (Image& image : model->images) {
+      const auto it = input_poses.find(image.image_id);
+      if (it != input_poses.end()) {
+        image.cam_from_world = it->second;
+      }
+    }
+    summary->kept_lidar_graph_poses = true;
+    LOG(WARNING) << "lidar_mapper: the iterations raised the mean whitened "
+                    "LIDAR edge error from "
+                 << summary->lidar_edge_error_input << " to "
+                 << summary->lidar_edge_error_final
+                 << ": the LIDAR graph poses are kept (points and lines are "
+                    "those of the last iteration)";
+  } else {
+    LOG(INFO) << "lidar_mapper: mean whitened LIDAR edge error "
+              << summary->lidar_edge_error_input << " (graph) -> "
+              << summary->lidar_edge_error_final << " (final) over " << count
+              << " edges";
+  }
+}
+
 }  // namespace
 
 bool LidarMapperOptions::Check() const {
@@ -290,6 +375,13 @@ std::string LidarMapperSummary::Format() const {
         << it.num_filtered_points << " points, " << it.num_filtered_lines
         << " lines; " << it.num_prior_outliers << " prior outliers; "
         << it.seconds << " s\n";
+  }
+  if (num_lidar_edges > 0) {
+    out << "  lidar edges: " << num_lidar_edges << ", mean whitened error "
+        << lidar_edge_error_input << " (graph) -> " << lidar_edge_error_final
+        << " (final), " << num_lidar_edge_violated_frames
+        << " frames violate an edge"
+        << (kept_lidar_graph_poses ? "; graph poses kept" : "") << "\n";
   }
   out << "  output " << output_path << ": " << num_points << " points, "
       << num_lines << " lines3D; segments " << lines_ply_path << "\n";
@@ -486,6 +578,8 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
   // prior residual enters the adjustment (measured: keeping them in drags
   // the consensus images back to prior-level errors).
   std::unordered_map<image_t, bool> held_out;
+  // init_method lidar_graph: its accepted edges, terms of every adjustment.
+  std::vector<RelativePoseEdge> lidar_edges;
   summary.init_used = options.init_method;
   summary.num_initial_images = static_cast<int>(model.images.size());
   if (options.init_method == "lidar_graph") {
@@ -502,6 +596,21 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
               << graph.FormatEdges();
     WriteReconstruction(JoinPaths(work_path, "lidar_graph"), PosesOnly(model),
                         ModelFormat::kBinary);
+    for (const LidarPoseGraphEdge& graph_edge : graph.edges) {
+      if (!graph_edge.used) {
+        continue;
+      }
+      RelativePoseEdge edge;
+      edge.image_id1 = graph.image_ids.at(graph_edge.i);
+      edge.image_id2 = graph.image_ids.at(graph_edge.j);
+      edge.lidar1_from_lidar2 = graph_edge.registration.target_from_source;
+      edge.cam1_from_lidar = graph.cam_from_lidar.at(graph_edge.i);
+      edge.cam2_from_lidar = graph.cam_from_lidar.at(graph_edge.j);
+      edge.sqrt_information =
+          SqrtInformation(graph_edge.registration.information);
+      lidar_edges.push_back(edge);
+    }
+    summary.num_lidar_edges = static_cast<int>(lidar_edges.size());
     summary.init_alignment = graph.Format();
   } else if (options.init_method != "priors") {
     // Each model (stock mapper may write several, e.g. split where the walk
@@ -649,6 +758,10 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
   stage_start = std::chrono::steady_clock::now();
   stage_cpu = CpuSeconds();
   std::vector<LineTrack> tracks;
+  std::unordered_map<image_t, Rigid3d> input_poses;
+  for (const Image& image : model.images) {
+    input_poses[image.image_id] = image.cam_from_world;
+  }
   for (int iteration = 0; iteration < options.max_num_iterations;
        ++iteration) {
     const auto iteration_start = std::chrono::steady_clock::now();
@@ -748,6 +861,7 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
     }
     LineBundleAdjuster adjuster(adjustment);
     adjuster.SetPosePriors(priors);
+    adjuster.SetRelativePoseEdges(lidar_edges);
     record.adjustment = adjuster.Solve(&model, &tracks);
     summary.adjustment_seconds += record.adjustment.solve_time_s;
 
@@ -848,6 +962,9 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
       summary.converged = true;
       break;
     }
+  }
+  if (!lidar_edges.empty()) {
+    CheckLidarEdges(lidar_edges, input_poses, &model, &summary);
   }
   summary.iterations_seconds = SecondsSince(stage_start);
   summary.iterations_cpu_seconds = CpuSeconds() - stage_cpu;

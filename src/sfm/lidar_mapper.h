@@ -50,7 +50,7 @@
 //
 // Initialisation (measured on the default synthetic scene, priors with
 // 0.5 m / 5 deg noise; see docs/benchmarks/lidar_mapper.md):
-// - "mapper" (default): stock `colmap mapper` without priors, its largest
+// - "mapper": stock `colmap mapper` without priors, its largest
 //   model aligned to the prior camera centres by a sim3 (Umeyama). Relative
 //   poses are then accurate to about a centimetre and the association works
 //   with tight tolerances from the first iteration. Images the mapper did
@@ -62,11 +62,18 @@
 //   with metre-level pose errors the line association is mostly wrong.
 // - "model": like "mapper" with the model at init_model_path instead of a
 //   stock mapper run (another SfM result; also how the guards are tested).
-// - "lidar_graph": the poses of a LIDAR pose graph (src/sfm/
+// - "lidar_graph" (default): the poses of a LIDAR pose graph (src/sfm/
 //   lidar_pose_graph.h: scan registration edges between consecutive and
 //   nearby frames, the priors as unary factors) for every image; no stock
 //   mapper run. The graph's poses are also written to
-//   <workspace>/sparse/lidar_mapper/lidar_graph.
+//   <workspace>/sparse/lidar_mapper/lidar_graph. The default since the
+//   benchmark matrix (docs/benchmarks/matrix.md): on the 30-frame quad the
+//   stock mapper registered 19 images, the other 11 started at their
+//   priors and the refined poses ended 29.6 cm / 1.6 deg off after sim3
+//   (1.17 cm / 0.14 deg from the graph); on the KITTI sample the mapper's
+//   model made the 3.3 m odometry trajectory 5.4 m long with a 2.0 m step
+//   (4.3 m, steps 0.21-0.24 m from the graph); on a 32-ring street both
+//   end at 1.4-1.6 cm.
 //
 // Gauge: the pose priors (sigmas prior_position_sigma_m,
 // prior_rotation_sigma_deg) fix the world frame in every iteration
@@ -109,7 +116,7 @@ struct LidarMapperOptions {
 
   // ---- Initial poses: "mapper", "priors", "model" or "lidar_graph" (see
   // the file comment).
-  std::string init_method = "mapper";
+  std::string init_method = "lidar_graph";
   // Sparse model for init_method "model" (any frame and scale).
   std::string init_model_path = "";
   // Acceptance of the initial model (see Guards in the file comment).
@@ -235,6 +242,18 @@ struct LidarMapperSummary {
   double init_cpu_seconds = 0.0;
   double iterations_cpu_seconds = 0.0;
   double total_cpu_seconds = 0.0;
+  // init_method lidar_graph: the graph's accepted edges, terms of every
+  // adjustment (adjustment.lidar_edge_weight), and their mean whitened error
+  // under the input (graph) and the final poses; frames with an edge beyond
+  // the chi-square(6) 99.9 % quantile after the iterations; whether the
+  // input poses were kept because the iterations violated the edges (mean
+  // error more than doubled and up by more than sqrt(6), the expected norm
+  // of a correct edge).
+  int num_lidar_edges = 0;
+  double lidar_edge_error_input = -1.0;
+  double lidar_edge_error_final = -1.0;
+  int num_lidar_edge_violated_frames = 0;
+  bool kept_lidar_graph_poses = false;
 
   std::string Format() const;
 };

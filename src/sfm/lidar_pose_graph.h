@@ -67,6 +67,10 @@ struct LidarPoseGraphOptions {
   // voxels, but 0.6 let in loop edges that slid 1-3 m along the street
   // and broke the graph; 0.25 dropped them (measured, see the report).
   double max_rmse_voxels = 0.25;
+  // A consecutive edge also passes when its rmse is at most this times the
+  // median rmse of the consecutive edges (the scanner's noise floor, see
+  // lidar_pose_graph.cc), >= 1; loop edges do not.
+  double consecutive_rmse_over_median = 1.5;
   // An edge farther from the priors' relative pose than this many sigmas
   // of a relative prior (sqrt(2) times the per-frame sigmas below; the
   // translation against its 3D norm) is not used, > 0.
@@ -122,6 +126,10 @@ struct LidarPoseGraphEdge {
 struct LidarPoseGraphResult {
   std::vector<Rigid3d> world_from_cam;
   std::vector<LidarPoseGraphEdge> edges;
+  // Per frame (the index of edges' i, j): its cam_from_lidar, and its image
+  // id (LidarGraphPoses only; empty from SolveLidarPoseGraph).
+  std::vector<Rigid3d> cam_from_lidar;
+  std::vector<image_t> image_ids;
   int num_frames = 0;
   int num_used_edges = 0;
   int num_used_loops = 0;
