@@ -293,6 +293,43 @@ class PosePriorCostFunctor {
   const double inv_rotation_sigma_;
 };
 
+// The whitened error of a relative LIDAR pose edge, shared by the pose
+// graph (src/sfm/lidar_pose_graph.h, world_from_cam variables) and the
+// adjustment (cam_from_world variables). Given cam_i_from_cam_j = (rel_q,
+// rel_t), the fixed lidar_i_from_cam_i, cam_j_from_lidar_j and the inverse
+// of the measurement M = lidar_i_from_lidar_j:
+//   E = M^-1 * C_i^-1 * rel * C_j,   r = S * [AngleAxis(E.R); E.t]   (6)
+template <typename T>
+void WhitenedRelativeLidarPoseError(
+    const Eigen::Quaternion<T>& rel_q, const Eigen::Matrix<T, 3, 1>& rel_t,
+    const Rigid3d& measured_inverse, const Rigid3d& lidar_i_from_cam_i,
+    const Rigid3d& cam_j_from_lidar_j,
+    const Eigen::Matrix<double, 6, 6>& sqrt_information, T* residuals) {
+  using Quaternion = Eigen::Quaternion<T>;
+  using Vector3 = Eigen::Matrix<T, 3, 1>;
+  // lidar_i_from_lidar_j = C_i^-1 * rel * C_j.
+  const Quaternion cj_q = cam_j_from_lidar_j.rotation.cast<T>();
+  const Vector3 cj_t = cam_j_from_lidar_j.translation.cast<T>();
+  const Quaternion ci_q = lidar_i_from_cam_i.rotation.cast<T>();
+  const Vector3 ci_t = lidar_i_from_cam_i.translation.cast<T>();
+  const Quaternion est_q = ci_q * rel_q * cj_q;
+  const Vector3 est_t = ci_q * (rel_q * cj_t + rel_t) + ci_t;
+  // E = M^-1 * est.
+  const Quaternion m_q = measured_inverse.rotation.cast<T>();
+  const Vector3 m_t = measured_inverse.translation.cast<T>();
+  const Quaternion error_q = m_q * est_q;
+  const Vector3 error_t = m_q * est_t + m_t;
+  const T error_wxyz[4] = {error_q.w(), error_q.x(), error_q.y(),
+                           error_q.z()};
+  T angle_axis[3];
+  ceres::QuaternionToAngleAxis(error_wxyz, angle_axis);
+  Eigen::Matrix<T, 6, 1> error;
+  error << angle_axis[0], angle_axis[1], angle_axis[2], error_t[0],
+      error_t[1], error_t[2];
+  Eigen::Map<Eigen::Matrix<T, 6, 1>> whitened(residuals);
+  whitened = sqrt_information.cast<T>() * error;
+}
+
 // Relative LIDAR pose edge (a scan registration kept from the LIDAR pose
 // graph, src/sfm/lidar_pose_graph.h) in the adjuster's parameterisation.
 // With P_i, P_j = cam_from_world of images i and j, the fixed cam_from_lidar
@@ -340,27 +377,9 @@ class RelativeLidarPoseCostFunctor {
     // cam_i_from_cam_j = P_i * P_j^-1.
     const Quaternion rel_q = pi_q * pj_q.conjugate();
     const Vector3 rel_t = pi_t - rel_q * pj_t;
-    // lidar_i_from_lidar_j = C_i^-1 * rel * C_j.
-    const Quaternion cj_q = cam_j_from_lidar_j_.rotation.cast<T>();
-    const Vector3 cj_t = cam_j_from_lidar_j_.translation.cast<T>();
-    const Quaternion ci_q = lidar_i_from_cam_i_.rotation.cast<T>();
-    const Vector3 ci_t = lidar_i_from_cam_i_.translation.cast<T>();
-    const Quaternion est_q = ci_q * rel_q * cj_q;
-    const Vector3 est_t = ci_q * (rel_q * cj_t + rel_t) + ci_t;
-    // E = M^-1 * est.
-    const Quaternion m_q = measured_inverse_.rotation.cast<T>();
-    const Vector3 m_t = measured_inverse_.translation.cast<T>();
-    const Quaternion error_q = m_q * est_q;
-    const Vector3 error_t = m_q * est_t + m_t;
-    const T error_wxyz[4] = {error_q.w(), error_q.x(), error_q.y(),
-                             error_q.z()};
-    T angle_axis[3];
-    ceres::QuaternionToAngleAxis(error_wxyz, angle_axis);
-    Eigen::Matrix<T, 6, 1> error;
-    error << angle_axis[0], angle_axis[1], angle_axis[2], error_t[0],
-        error_t[1], error_t[2];
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> whitened(residuals);
-    whitened = sqrt_information_.cast<T>() * error;
+    WhitenedRelativeLidarPoseError(rel_q, rel_t, measured_inverse_,
+                                   lidar_i_from_cam_i_, cam_j_from_lidar_j_,
+                                   sqrt_information_, residuals);
     return true;
   }
 

@@ -38,6 +38,7 @@
 #include "colmap_ext/scene/rigid3.h"
 #include "src/lidar/lidar_scan.h"
 #include "src/lidar/scan_registration.h"
+#include "src/optim/cost_functions.h"
 
 namespace colmap_lidar {
 
@@ -259,27 +260,9 @@ class RelativePoseCostFunctor {
     const Quaternion rel_q = cam_i_from_world_q * world_from_cam_j_q;
     const Vector3 rel_t =
         cam_i_from_world_q * (world_from_cam_j_t - world_from_cam_i_t);
-    // lidar_i_from_lidar_j = C_i^-1 * rel * C_j.
-    const Quaternion cj_q = cam_j_from_lidar_j_.rotation.cast<T>();
-    const Vector3 cj_t = cam_j_from_lidar_j_.translation.cast<T>();
-    const Quaternion ci_q = lidar_i_from_cam_i_.rotation.cast<T>();
-    const Vector3 ci_t = lidar_i_from_cam_i_.translation.cast<T>();
-    const Quaternion est_q = ci_q * rel_q * cj_q;
-    const Vector3 est_t = ci_q * (rel_q * cj_t + rel_t) + ci_t;
-    // E = M^-1 * est.
-    const Quaternion m_q = measured_inverse_.rotation.cast<T>();
-    const Vector3 m_t = measured_inverse_.translation.cast<T>();
-    const Quaternion error_q = m_q * est_q;
-    const Vector3 error_t = m_q * est_t + m_t;
-    const T error_wxyz[4] = {error_q.w(), error_q.x(), error_q.y(),
-                             error_q.z()};
-    Eigen::Matrix<T, 6, 1> error;
-    T angle_axis[3];
-    ceres::QuaternionToAngleAxis(error_wxyz, angle_axis);
-    error << angle_axis[0], angle_axis[1], angle_axis[2], error_t[0],
-        error_t[1], error_t[2];
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> whitened(residuals);
-    whitened = sqrt_information_.cast<T>() * error;
+    WhitenedRelativeLidarPoseError(rel_q, rel_t, measured_inverse_,
+                                   lidar_i_from_cam_i_, cam_j_from_lidar_j_,
+                                   sqrt_information_, residuals);
     return true;
   }
 
