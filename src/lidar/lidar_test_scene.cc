@@ -1,10 +1,25 @@
 #include "src/lidar/lidar_test_scene.h"
 
+#include <Eigen/Geometry>
+
 namespace colmap_lidar {
 
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
 double RotationErrorDeg(const Rigid3d& a, const Rigid3d& b) {
-  constexpr double kPi = 3.14159265358979323846;
   return a.rotation.angularDistance(b.rotation) * 180.0 / kPi;
+}
+
+Rigid3d PoseFromYawRoll(double yaw_deg, double roll_deg,
+                        const Eigen::Vector3d& t) {
+  return Rigid3d(Eigen::Quaterniond(
+                     Eigen::AngleAxisd(yaw_deg * kPi / 180,
+                                       Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(roll_deg * kPi / 180,
+                                       Eigen::Vector3d::UnitX())),
+                 t);
 }
 
 void SampleRectangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& u,

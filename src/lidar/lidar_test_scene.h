@@ -16,6 +16,10 @@ namespace colmap_lidar {
 // Angle of a.rotation^-1 * b.rotation, degrees.
 double RotationErrorDeg(const Rigid3d& a, const Rigid3d& b);
 
+// Rotation by yaw about z, then roll about x (degrees), and translation t.
+Rigid3d PoseFromYawRoll(double yaw_deg, double roll_deg,
+                        const Eigen::Vector3d& t);
+
 // Uniform samples on the rectangle origin + [0,1] u + [0,1] v, about
 // points_per_m2 per square metre, appended to `points`.
 void SampleRectangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& u,

@@ -43,25 +43,16 @@ LidarScan MakeScan(const std::vector<Eigen::Vector3d>& points_in_world,
   return scan;
 }
 
-Rigid3d Pose(double yaw_deg, double roll_deg, const Eigen::Vector3d& t) {
-  return Rigid3d(Eigen::Quaterniond(
-                     Eigen::AngleAxisd(yaw_deg * kPi / 180,
-                                       Eigen::Vector3d::UnitZ()) *
-                     Eigen::AngleAxisd(roll_deg * kPi / 180,
-                                       Eigen::Vector3d::UnitX())),
-                 t);
-}
-
 TEST(ScanRegistration, RecoversAMotionFromAPriorLevelGuess) {
-  const Rigid3d world_from_target = Pose(10, 0, {0, 0, 0});
-  const Rigid3d world_from_source = Pose(17, 1, {2.5, 0.8, 0.05});
+  const Rigid3d world_from_target = PoseFromYawRoll(10, 0, {0, 0, 0});
+  const Rigid3d world_from_source = PoseFromYawRoll(17, 1, {2.5, 0.8, 0.05});
   const LidarScan target =
       MakeScan(SampleStreet(1), world_from_target, 0.015, 11);
   const LidarScan source =
       MakeScan(SampleStreet(2), world_from_source, 0.015, 12);
   const Rigid3d truth = world_from_target.Inverse() * world_from_source;
   // A guess as far off as two frames with 0.5 m / 5 deg priors can be.
-  const Rigid3d guess = truth * Pose(-7, 2, {0.6, -0.5, 0.2});
+  const Rigid3d guess = truth * PoseFromYawRoll(-7, 2, {0.6, -0.5, 0.2});
   ScanRegistrationOptions options;
   options.num_threads = 2;
   const ScanRegistrationResult result =
@@ -85,7 +76,7 @@ TEST(ScanRegistration, RecoversAMotionFromAPriorLevelGuess) {
 
 TEST(ScanRegistration, InformationIsSmallAlongACorridor) {
   const Rigid3d world_from_target;
-  const Rigid3d world_from_source = Pose(0, 0, {1.0, 0.1, 0});
+  const Rigid3d world_from_source = PoseFromYawRoll(0, 0, {1.0, 0.1, 0});
   const LidarScan target =
       MakeScan(SampleCorridor(3), world_from_target, 0.015, 13);
   const LidarScan source =
@@ -109,7 +100,7 @@ TEST(ScanRegistration, DisjointScansHaveLowFitness) {
   ScanRegistrationOptions options;
   options.num_threads = 2;
   const ScanRegistrationResult result = RegisterScans(
-      source, target, Pose(0, 0, {0, 60, 30}), options);
+      source, target, PoseFromYawRoll(0, 0, {0, 60, 30}), options);
   EXPECT_LT(result.fitness, 0.3);
 }
 

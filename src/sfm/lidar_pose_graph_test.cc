@@ -15,15 +15,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Rigid3d Pose(double yaw_deg, double roll_deg, const Eigen::Vector3d& t) {
-  return Rigid3d(Eigen::Quaterniond(
-                     Eigen::AngleAxisd(yaw_deg * kPi / 180,
-                                       Eigen::Vector3d::UnitZ()) *
-                     Eigen::AngleAxisd(roll_deg * kPi / 180,
-                                       Eigen::Vector3d::UnitX())),
-                 t);
-}
-
 // The rigs' camera: z forward, LIDAR x forward, 10 cm apart.
 Rigid3d CamFromLidar() {
   Eigen::Matrix3x4d matrix;
@@ -66,7 +57,7 @@ std::unique_ptr<Sequence> MakeSequence(int n, unsigned seed) {
   for (int k = 0; k < n; ++k) {
     const double yaw = 8.0 * k;
     const Rigid3d world_from_lidar =
-        Pose(yaw, 0.0, {-8.0 + 1.0 * k, -4.0 + 0.15 * k, 1.5});
+        PoseFromYawRoll(yaw, 0.0, {-8.0 + 1.0 * k, -4.0 + 0.15 * k, 1.5});
     const Rigid3d world_from_cam = world_from_lidar * cam_from_lidar.Inverse();
     sequence->world_from_cam_gt.push_back(world_from_cam);
     std::normal_distribution<double> range_noise(0.0, 0.015);
@@ -110,7 +101,7 @@ void ExpectGradientsMatch(const ceres::CostFunction& cost_function,
 }
 
 TEST(WorldPosePriorCostFunctor, ResidualAndGradients) {
-  Rigid3d prior = Pose(30, 5, {1, 2, 3});
+  Rigid3d prior = PoseFromYawRoll(30, 5, {1, 2, 3});
   Rigid3d pose = prior;
   pose.translation += Eigen::Vector3d(0.5, 0, 0);
   const std::unique_ptr<ceres::CostFunction> cost(
@@ -121,7 +112,7 @@ TEST(WorldPosePriorCostFunctor, ResidualAndGradients) {
   ASSERT_TRUE(cost->Evaluate(parameters, residuals, nullptr));
   EXPECT_NEAR(residuals[0], 2.0, 1e-12);
   for (int k = 1; k < 6; ++k) EXPECT_NEAR(residuals[k], 0.0, 1e-12);
-  pose = Pose(33, 4, {1.2, 2.1, 2.9});
+  pose = PoseFromYawRoll(33, 4, {1.2, 2.1, 2.9});
   const ceres::EigenQuaternionManifold quaternion_manifold;
   ExpectGradientsMatch(*cost, {&quaternion_manifold, nullptr},
                        {pose.rotation.coeffs().data(), pose.translation.data()});
@@ -129,8 +120,8 @@ TEST(WorldPosePriorCostFunctor, ResidualAndGradients) {
 
 TEST(RelativePoseCostFunctor, ZeroWhenConsistentAndGradientsMatch) {
   const Rigid3d cam_from_lidar = CamFromLidar();
-  Rigid3d world_from_cam_i = Pose(20, 3, {1, 0, 0.5});
-  Rigid3d world_from_cam_j = Pose(28, -2, {2.2, 0.4, 0.6});
+  Rigid3d world_from_cam_i = PoseFromYawRoll(20, 3, {1, 0, 0.5});
+  Rigid3d world_from_cam_j = PoseFromYawRoll(28, -2, {2.2, 0.4, 0.6});
   const Rigid3d measured = (world_from_cam_i * cam_from_lidar).Inverse() *
                            (world_from_cam_j * cam_from_lidar);
   // Dense (no structural zeros, which the relative gradient check cannot
@@ -171,7 +162,7 @@ TEST(RelativePoseCostFunctor, ZeroWhenConsistentAndGradientsMatch) {
   const Eigen::Matrix<double, 6, 1> expected = sqrt_information * error;
   for (int k = 0; k < 6; ++k) EXPECT_NEAR(residuals[k], expected[k], 1e-9);
 
-  world_from_cam_j = Pose(25, 1, {2.0, 0.5, 0.7});
+  world_from_cam_j = PoseFromYawRoll(25, 1, {2.0, 0.5, 0.7});
   const ceres::EigenQuaternionManifold quaternion_manifold;
   ExpectGradientsMatch(
       *cost, {&quaternion_manifold, nullptr, &quaternion_manifold, nullptr},
