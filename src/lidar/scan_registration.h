@@ -4,9 +4,11 @@
 // (src/sfm/lidar_pose_graph.h).
 //
 // Two stages: a coarse GICP on scans downsampled coarse_voxel_factor times
-// coarser, with a wide correspondence distance, from each initial guess
-// given (the one with the largest coarse overlap wins), then a fine GICP
-// with a correspondence distance of a few voxels. The initial guesses of a
+// coarser, with a wide correspondence distance, then point-to-plane ICP,
+// from each initial guess given (among those with nearly the largest coarse
+// overlap, the smallest rmse wins), then a fine point-to-plane ICP and GICP
+// with a correspondence distance of a few voxels. Point-to-plane steps are
+// there because GICP does not slide along weakly constrained directions. The initial guesses of a
 // pose graph come from noisy priors (relative errors up to about 1 m and
 // 10 deg between two frames with 0.5 m / 5 deg priors), which the fine stage
 // alone does not pull in.
@@ -63,6 +65,10 @@ struct ScanRegistrationOptions {
   // Convergence: pose update between two iterations below this
   // (translation m, rotation rad), > 0.
   double transformation_epsilon = 1e-5;
+  // Point-to-plane iterations after each GICP stage's start (see
+  // RefinePointToPlane in the .cc: GICP alone does not slide along a
+  // corridor's axis), >= 0; 0 turns the step off.
+  int point_to_plane_iterations = 30;
   // Neighbours per point for the GICP covariances and normals, >= 3.
   int num_neighbors = 20;
   // Floor of the standard deviations the information matrix may claim
