@@ -17,7 +17,9 @@ void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
   options->AddOption("Synthesis.preset", &synth->preset,
                      "Scene: quad (Newer-College-like 30 x 20 m courtyard) "
                      "| street (80 m street canyon) | corridor (64 m walk down a "
-                     "6 m alley).");
+                     "6 m alley) | street_bent (street canyon with a 28 deg "
+                     "bend, kerbs, road paint, protruding window frames) | "
+                     "square (open 50 x 40 m square, few facades).");
   options->AddOption("Synthesis.num_frames", &synth->num_frames,
                      "Frames (image + LIDAR scan) along the walk, >= 1.");
   options->AddOption("Synthesis.path_fraction", &synth->path_fraction,

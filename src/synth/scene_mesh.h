@@ -1,13 +1,14 @@
 // The synthetic scene: a triangle soup with one material and one texture
 // seed per triangle, the list of its ground-truth crease edges, and a
 // builder for the primitives the presets are made of (quads, boxes,
-// cylinders, facades with recessed windows and doors).
+// cylinders, facades with recessed or framed windows and doors).
 //
 // Conventions: world frame in metres, z up, the ground is the plane z = 0.
 // Every primitive gets its own vertices (no sharing between primitives), so
 // a per-vertex material is well defined when the mesh is written as PLY.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,8 +31,10 @@ enum class Material : uint8_t {
   kFoliage = 8,   // Tree canopy (unstructured random triangles).
   kBark = 9,      // Tree trunk.
   kRoof = 10,     // Roof tops (rarely seen).
+  kAsphalt = 11,  // Road surface: dark, fine aggregate grain, no joints.
+  kPaint = 12,    // Road marking paint (lane lines, crossings): white.
 };
-constexpr int kNumMaterials = 11;
+constexpr int kNumMaterials = 13;
 std::string MaterialName(Material material);
 
 // A straight segment where two planar surfaces meet at an angle (the
@@ -48,6 +51,14 @@ struct CreaseEdge {
 
   // Angle between the two normals in degrees (90 for a wall corner).
   double AngleDeg() const;
+};
+
+// A straight segment where the albedo changes abruptly on a flat surface
+// (the border of a painted road mark): an image edge without geometry, so
+// NOT a crease edge (LIDAR sees no depth change along it).
+struct PaintEdge {
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end = Eigen::Vector3d::Zero();
 };
 
 struct SceneMesh {
@@ -76,6 +87,13 @@ struct FacadeOpening {
   Material reveal_material = Material::kFrame;
   // A sill box under the opening (windows); a door has none.
   bool has_sill = true;
+  // A window frame standing proud of the wall (windows only): a ring
+  // `frame_width` metres wide around the opening whose front face is
+  // `frame_protrusion` metres in front of the facade plane (the reveals
+  // then start at the frame's front). 0 (default): a plain recess. With a
+  // frame the sill sits 5 cm below the frame.
+  double frame_width = 0.0;
+  double frame_protrusion = 0.0;
 };
 
 // Builds a SceneMesh and its CreaseEdge list together.
@@ -105,13 +123,28 @@ class SceneBuilder {
               Material material, uint32_t texture_seed, bool add_edges,
               bool ground_edges = true);
 
+  // A box spanned from `origin` by sizes[i] * axes[i] (an orthonormal
+  // frame, any orientation). attached_face is -1 or the index of the face
+  // that rests on a supporting surface (2 * axis + (positive side ? 1 :
+  // 0)): that face is not emitted and, with `add_edges`, its 4 edges
+  // become concave creases with the support (whose normal is the opposite
+  // of the face's outward normal); all other edges are convex creases.
+  void AddOrientedBox(const Eigen::Vector3d& origin,
+                      const std::array<Eigen::Vector3d, 3>& axes,
+                      const Eigen::Vector3d& sizes, Material material,
+                      uint32_t texture_seed, bool add_edges,
+                      int attached_face);
+
   // A vertical cylinder standing on z = z_base, approximated by `sides`
   // flat faces with a top cap. The top rim is a convex crease and, on the
-  // ground, the bottom rim a concave one; the side facets are treated as a
-  // smooth surface (no creases between them).
+  // ground (z_base = 0) or with `on_support` (z_base is the top of a
+  // horizontal surface such as a raised pavement), the bottom rim a concave
+  // one; the side facets are treated as a smooth surface (no creases
+  // between them).
   void AddCylinder(const Eigen::Vector2d& center, double radius,
                    double z_base, double height, int sides, Material material,
-                   uint32_t texture_seed, bool add_edges);
+                   uint32_t texture_seed, bool add_edges,
+                   bool on_support = false);
 
   // A vertical facade rectangle from `origin` (on the ground) along the
   // horizontal unit vector `u_dir` for `width` metres and `height` metres up,
@@ -127,13 +160,16 @@ class SceneBuilder {
   void AddCreaseEdge(const Eigen::Vector3d& start, const Eigen::Vector3d& end,
                      const Eigen::Vector3d& normal1,
                      const Eigen::Vector3d& normal2, bool convex);
+  void AddPaintEdge(const Eigen::Vector3d& start, const Eigen::Vector3d& end);
 
   SceneMesh& mesh() { return mesh_; }
   std::vector<CreaseEdge>& crease_edges() { return crease_edges_; }
+  std::vector<PaintEdge>& paint_edges() { return paint_edges_; }
 
  private:
   SceneMesh mesh_;
   std::vector<CreaseEdge> crease_edges_;
+  std::vector<PaintEdge> paint_edges_;
 };
 
 }  // namespace colmap_lidar

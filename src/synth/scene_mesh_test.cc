@@ -1,7 +1,11 @@
 #include "src/synth/scene_mesh.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <gtest/gtest.h>
 
+#include "colmap_ext/util/logging.h"
 #include "src/synth/ray_tracer.h"
 #include "src/synth/scene_presets.h"
 
@@ -84,6 +88,155 @@ TEST(SceneMesh, CorridorCreaseEdgesLieOnCreases) {
                 0.0);
     }
   }
+}
+
+TEST(SceneMesh, StreetBentCreaseEdgesIncludeTheKerbs) {
+  const SynthScene scene = BuildScene("street_bent");
+  EXPECT_EQ(scene.name, "street_bent");
+  CheckScene(scene, 1000);
+  // The kerbs: per side and leg a long convex lip on the pavement's top
+  // (z = 0.13, between the up normal and a horizontal one) and a long
+  // concave foot on the road (z = 0); at the bend a short vertical kerb
+  // edge per side, convex inside the bend and concave outside.
+  const double kerb_height = 0.13;
+  int num_lips = 0;
+  int num_feet = 0;
+  int num_kerb_corners = 0;
+  for (const CreaseEdge& edge : scene.crease_edges) {
+    const double length = (edge.end - edge.start).norm();
+    const bool horizontal_and_up =
+        std::max(edge.normal1.z(), edge.normal2.z()) > 0.999 &&
+        std::abs(std::min(edge.normal1.z(), edge.normal2.z())) < 1e-9;
+    if (length > 20.0 && horizontal_and_up && edge.convex &&
+        std::abs(edge.start.z() - kerb_height) < 1e-9 &&
+        std::abs(edge.end.z() - kerb_height) < 1e-9) {
+      ++num_lips;
+    }
+    if (length > 20.0 && horizontal_and_up && !edge.convex &&
+        std::abs(edge.start.z()) < 1e-9 && std::abs(edge.end.z()) < 1e-9) {
+      ++num_feet;
+    }
+    if (std::abs(length - kerb_height) < 1e-9 &&
+        std::abs(edge.start.z()) < 1e-9 && edge.AngleDeg() > 20.0 &&
+        edge.AngleDeg() < 35.0) {
+      ++num_kerb_corners;
+    }
+  }
+  EXPECT_EQ(num_lips, 4);
+  EXPECT_EQ(num_feet, 4);
+  EXPECT_EQ(num_kerb_corners, 2);
+
+  // The window frames stand 7 cm proud of the left facade of leg 0 (the
+  // plane y = 6 seen from the road): rays across the road at the height of
+  // the ground-floor windows hit frames at y = 5.93, the wall at y = 6.
+  const RayTracer tracer(scene.mesh);
+  int num_frame_hits = 0;
+  int num_wall_hits = 0;
+  for (double x = -40.0; x < -5.0; x += 0.02) {
+    const RayHit hit =
+        tracer.Intersect({x, 0.0, kerb_height + 1.6}, {0.0, 1.0, 0.0});
+    ASSERT_TRUE(hit.Valid());
+    const Material material = scene.mesh.materials[hit.triangle];
+    if (material == Material::kFrame && std::abs(hit.distance - 5.93) < 1e-4) {
+      ++num_frame_hits;
+    }
+    if (material != Material::kFrame && std::abs(hit.distance - 6.0) < 1e-4) {
+      ++num_wall_hits;
+    }
+  }
+  EXPECT_GT(num_frame_hits, 50);
+  EXPECT_GT(num_wall_hits, 500);
+}
+
+TEST(SceneMesh, StreetBentPaintIsFlatAndNoCrease) {
+  const SynthScene scene = BuildScene("street_bent");
+  ASSERT_GT(scene.paint_edges.size(), 40u);
+  const RayTracer tracer(scene.mesh);
+  const Eigen::Vector3d down(0.0, 0.0, -1.0);
+  int num_borders = 0;
+  for (const PaintEdge& edge : scene.paint_edges) {
+    EXPECT_NEAR(edge.start.z(), 0.003, 1e-9);
+    EXPECT_NEAR(edge.end.z(), 0.003, 1e-9);
+    // Seen from above, 1 cm to one side of the border is paint and 1 cm to
+    // the other side the road.
+    const Eigen::Vector3d mid = 0.5 * (edge.start + edge.end);
+    const Eigen::Vector3d d = (edge.end - edge.start).normalized();
+    const Eigen::Vector3d side = d.cross(Eigen::Vector3d::UnitZ());
+    Material materials[2];
+    for (int k = 0; k < 2; ++k) {
+      const RayHit hit = tracer.Intersect(
+          mid + (k == 0 ? 0.01 : -0.01) * side + Eigen::Vector3d(0, 0, 1),
+          down);
+      ASSERT_TRUE(hit.Valid());
+      materials[k] = scene.mesh.materials[hit.triangle];
+    }
+    num_borders += (materials[0] == Material::kPaint) !=
+                   (materials[1] == Material::kPaint);
+    // No crease edge runs along a paint border.
+    for (const CreaseEdge& crease : scene.crease_edges) {
+      const Eigen::Vector3d c = crease.end - crease.start;
+      const double t = std::clamp((mid - crease.start).dot(c) / c.dot(c),
+                                  0.0, 1.0);
+      EXPECT_GT((crease.start + t * c - mid).norm(), 0.05);
+    }
+  }
+  EXPECT_EQ(num_borders, static_cast<int>(scene.paint_edges.size()));
+}
+
+TEST(SceneMesh, SquareCreaseEdgesLieOnCreases) {
+  const SynthScene scene = BuildScene("square");
+  EXPECT_EQ(scene.name, "square");
+  CheckScene(scene, 500);
+  EXPECT_TRUE(scene.paint_edges.empty());
+  // The walk keeps clear of the objects: nothing within 1.5 m of the
+  // camera around any waypoint at camera height.
+  const RayTracer tracer(scene.mesh);
+  for (const Eigen::Vector2d& w : scene.path.waypoints) {
+    EXPECT_GT(tracer.DistanceToSurface({w.x(), w.y(), scene.path.height_m}),
+              1.45);
+  }
+}
+
+TEST(SceneMesh, FramedWindowStandsProud) {
+  SceneBuilder builder;
+  FacadeOpening window;
+  window.u_min = 1.0;
+  window.u_max = 2.0;
+  window.v_min = 1.0;
+  window.v_max = 2.5;
+  window.depth = 0.15;
+  window.frame_width = 0.12;
+  window.frame_protrusion = 0.07;
+  // The ground the wall stands on (for the wall-ground crease).
+  builder.AddQuadFacing({-1, -3, 0}, {4, -3, 0}, {4, 3, 0}, {-1, 3, 0},
+                        Eigen::Vector3d::UnitZ(), Material::kPaving, 0);
+  builder.AddFacade({0, 0, 0}, Eigen::Vector3d::UnitX(),
+                    -Eigen::Vector3d::UnitY(), 3.0, 4.0, Material::kBrick, 0,
+                    {window});
+  const RayTracer tracer(builder.mesh());
+  const RayHit wall = tracer.Intersect({0.5, -5, 1.5}, {0, 1, 0});
+  const RayHit frame = tracer.Intersect({0.94, -5, 1.5}, {0, 1, 0});
+  const RayHit glass = tracer.Intersect({1.5, -5, 1.75}, {0, 1, 0});
+  ASSERT_TRUE(wall.Valid() && frame.Valid() && glass.Valid());
+  EXPECT_NEAR(wall.distance, 5.0, 1e-6);
+  EXPECT_NEAR(frame.distance, 4.93, 1e-6);
+  EXPECT_NEAR(glass.distance, 5.15, 1e-6);
+  EXPECT_EQ(builder.mesh().materials[frame.triangle], Material::kFrame);
+  // 1 wall-ground line + 8 recess edges + 12 frame edges (4 lips, 4 lines
+  // on the wall, 4 corners) + 12 sill edges.
+  EXPECT_EQ(builder.crease_edges().size(), 33u);
+  SynthScene scene;
+  scene.mesh = builder.mesh();
+  scene.crease_edges = builder.crease_edges();
+  CheckScene(scene, 33);
+  // A frame on a door is refused.
+  FacadeOpening door = window;
+  door.v_min = 0.0;
+  door.has_sill = false;
+  EXPECT_THROW(builder.AddFacade({0, 0, 0}, Eigen::Vector3d::UnitX(),
+                                 -Eigen::Vector3d::UnitY(), 3.0, 4.0,
+                                 Material::kBrick, 0, {door}),
+               Error);
 }
 
 TEST(SceneMesh, DisplacedEdgesAreRejected) {

@@ -1,6 +1,7 @@
 // The scene presets of the synthesiser: triangle meshes with materials,
 // ground-truth crease edges, where the survey tripods stand and the path
-// the handheld rig walks. The geometry is fixed per preset (it does not
+// the handheld rig walks. One file per preset (scene_<preset>.cc), made of
+// the shared blocks of scene_blocks.h; BuildScene dispatches by name. The geometry is fixed per preset (it does not
 // depend on SynthesisOptions::seed), so datasets generated with different
 // seeds share the same reference.
 #pragma once
@@ -35,6 +36,12 @@ struct SynthScene {
   std::string name;
   SceneMesh mesh;
   std::vector<CreaseEdge> crease_edges;
+  // Borders of painted marks on the ground (texture edges, not creases);
+  // empty for scenes without paint.
+  std::vector<PaintEdge> paint_edges;
+  // What departs from the common conventions (e.g. surfaces above z = 0
+  // that a user might take for the ground); empty if nothing.
+  std::string notes;
   // Candidate survey tripod positions (x, y), in order of preference.
   std::vector<Eigen::Vector2d> survey_stations;
   WalkPath path;
@@ -55,6 +62,28 @@ SynthScene BuildStreetScene();
 // (x in [-40, 40], walls at y = +-3, 14-17 m high, few openings), looking
 // forward +-8 degrees; the roll about the straight path is weakly observed.
 SynthScene BuildCorridorScene();
+// "street_bent": a 12 m wide street canyon of two straight 45 m legs
+// meeting at the origin with a 28 degree bend to the left (leg 1 along +x
+// for x in [-45, 0], leg 2 along (cos 28, sin 28)); repetitive brick
+// facades (same window grid) with protruding window frames and sills;
+// 2.5 m raised pavements (0.13 m kerbs, crease edges along the kerbs) on
+// both sides of a 7 m asphalt road with painted lane lines (edge lines,
+// dashed centre line, a zebra crossing; their borders are paint edges);
+// benches, bollards, trees and parked cars (boxes). The rig walks 70 m on
+// the road through the bend (rounded, radius 12 m), sweeping +-45 deg.
+SynthScene BuildStreetBentScene();
+// "square": an open, paved 50 x 40 m square (x in [-25, 25], y in
+// [-20, 20]) with buildings on three sides only (west, north, half of the
+// south; the east opens onto more paving), so the ground dominates the
+// views; a kiosk, benches, bollards, trees, a fountain basin and lamp posts.
+// The rig walks a 46 m S-curve across it from the open east side towards
+// the south-west, looking forward +-45 deg.
+SynthScene BuildSquareScene();
+
+// The preset names, e.g. "quad, street, corridor, street_bent or square".
+const std::vector<std::string>& ScenePresetNames();
+std::string ScenePresetNamesText();
+bool IsKnownScenePreset(const std::string& preset);
 // Throws colmap_lidar::Error on an unknown preset name.
 SynthScene BuildScene(const std::string& preset);
 

@@ -3,6 +3,7 @@
 #include <glog/logging.h>
 
 #include "src/synth/lidar_simulator.h"
+#include "src/synth/scene_presets.h"
 #include "src/synth/synthesize.h"
 
 namespace colmap_lidar {
@@ -14,9 +15,9 @@ namespace colmap_lidar {
   }
 
 bool SynthesisOptions::Check() const {
-  if (preset != "quad" && preset != "street" && preset != "corridor") {
-    LOG(ERROR) << "Synthesis.preset must be quad, street or corridor, got '"
-               << preset << "'";
+  if (!IsKnownScenePreset(preset)) {
+    LOG(ERROR) << "Synthesis.preset must be " << ScenePresetNamesText()
+               << ", got '" << preset << "'";
     return false;
   }
   SYNTH_CHECK_OPTION(num_frames >= 1);

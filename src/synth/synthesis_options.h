@@ -23,8 +23,11 @@ namespace colmap_lidar {
 
 struct SynthesisOptions {
   // Scene preset: "quad" (Newer-College-like courtyard, 30 x 20 m, enclosed
-  // by buildings), "street" (a straight 12 m wide street canyon) or
-  // "corridor" (a 6 m wide alley walked straight down the middle).
+  // by buildings), "street" (a straight 12 m wide street canyon),
+  // "corridor" (a 6 m wide alley walked straight down the middle),
+  // "street_bent" (a street canyon with a 28 deg bend, kerbs, road paint,
+  // protruding window frames) or "square" (an open 50 x 40 m square with
+  // few facades); scene_presets.h.
   std::string preset = "quad";
   // Number of frames (image + scan) along the trajectory.
   int num_frames = 60;

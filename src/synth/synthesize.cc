@@ -111,6 +111,7 @@ std::string GroundTruthReadme(const SynthesisOptions& options,
       << "` (colmap-lidar synthesize)\n\n"
       << "World frame: metres, z up, ground plane z = 0. Camera frame: x "
          "right, y down, z forward.\n"
+      << (scene.notes.empty() ? std::string() : scene.notes + "\n")
       << "Rig layout: docs/dataset-format.md (calibration.yaml, images/, "
          "lidar/, poses_*.txt, reference.ply).\n\n"
       << "## Files\n"
@@ -146,6 +147,12 @@ std::string GroundTruthReadme(const SynthesisOptions& options,
          "per line `x1 y1 z1 x2 y2 z2 n1x n1y n1z n2x n2y n2z convex "
          "angle_deg` (outward normals of the two faces; convex 1 = outer "
          "corner).\n"
+      << (scene.paint_edges.empty()
+              ? std::string()
+              : "- `ground_truth/paint_edges.txt`: borders of the painted "
+                "road marks (lane lines, crossing bars), flat on the road: "
+                "image edges that are NOT crease edges (no depth change); "
+                "one per line `x1 y1 z1 x2 y2 z2`.\n")
       << "- `ground_truth/depth_maps/<frame>.bin`: COLMAP Mat (`W&H&1&` + "
          "float32), camera-frame z-depth of the ray through image point "
          "(col, row) WITHOUT +0.5 (COLMAP's MVS pixel convention), for the "
@@ -353,6 +360,44 @@ std::vector<CreaseEdge> ReadCreaseEdges(const std::string& path) {
   return edges;
 }
 
+void WritePaintEdges(const std::string& path,
+                     const std::vector<PaintEdge>& edges) {
+  WriteFileAtomically(
+      path,
+      [&](std::ostream& out) {
+        out << "# Paint edges (world frame, metres): x1 y1 z1 x2 y2 z2\n";
+        out << "# Borders of painted road marks: image edges on flat ground, "
+               "not crease edges.\n";
+        out << "# Number of edges: " << edges.size() << "\n";
+        out << std::setprecision(9);
+        for (const PaintEdge& edge : edges) {
+          out << edge.start.x() << " " << edge.start.y() << " "
+              << edge.start.z() << " " << edge.end.x() << " " << edge.end.y()
+              << " " << edge.end.z() << "\n";
+        }
+      },
+      /*binary=*/false);
+}
+
+std::vector<PaintEdge> ReadPaintEdges(const std::string& path) {
+  std::istringstream in(ReadTextFile(path));
+  std::vector<PaintEdge> edges;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    PaintEdge edge;
+    fields >> edge.start.x() >> edge.start.y() >> edge.start.z() >>
+        edge.end.x() >> edge.end.y() >> edge.end.z();
+    THROW_CHECK(!fields.fail(), "Malformed paint edge in " << path << " line "
+                                                           << line_number);
+    edges.push_back(edge);
+  }
+  return edges;
+}
+
 void WriteSceneMesh(const std::string& path, const SceneMesh& mesh) {
   PlyData ply;
   std::vector<double> xs, ys, zs, materials;
@@ -390,7 +435,11 @@ SynthesisSummary SynthesizeDataset(const SynthesisOptions& options,
   const SynthScene scene = BuildScene(options.preset);
   const RayTracer tracer(scene.mesh);
   LOG(INFO) << "Scene " << scene.name << ": " << scene.mesh.NumTriangles()
-            << " triangles, " << scene.crease_edges.size() << " crease edges";
+            << " triangles, " << scene.crease_edges.size() << " crease edges"
+            << (scene.paint_edges.empty()
+                    ? std::string()
+                    : ", " + std::to_string(scene.paint_edges.size()) +
+                          " paint edges");
 
   const Camera camera = SynthCamera(options);
   const Rigid3d cam_from_lidar = SynthCamFromLidar();
@@ -416,6 +465,7 @@ SynthesisSummary SynthesizeDataset(const SynthesisOptions& options,
   summary.num_frames = options.num_frames;
   summary.num_triangles = scene.mesh.NumTriangles();
   summary.num_crease_edges = scene.crease_edges.size();
+  summary.num_paint_edges = scene.paint_edges.size();
   std::vector<FramePose> gt_frames;
   std::vector<FramePose> prior_frames;
   for (int i = 0; i < options.num_frames; ++i) {
@@ -492,6 +542,10 @@ SynthesisSummary SynthesizeDataset(const SynthesisOptions& options,
   WriteSceneMesh(JoinPaths(truth_dir, "scene.ply"), scene.mesh);
   WriteCreaseEdges(JoinPaths(truth_dir, "crease_edges.txt"),
                    scene.crease_edges);
+  if (!scene.paint_edges.empty()) {
+    WritePaintEdges(JoinPaths(truth_dir, "paint_edges.txt"),
+                    scene.paint_edges);
+  }
   const std::string readme = GroundTruthReadme(options, scene, stations);
   WriteFileAtomically(
       JoinPaths(truth_dir, "README.md"),

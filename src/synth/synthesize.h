@@ -35,6 +35,7 @@ struct SynthesisSummary {
   size_t num_lidar_points = 0;
   size_t num_reference_points = 0;
   size_t num_crease_edges = 0;
+  size_t num_paint_edges = 0;
   size_t num_triangles = 0;
   double seconds = 0.0;
 };
@@ -75,6 +76,14 @@ void WriteCreaseEdges(const std::string& path,
                       const std::vector<CreaseEdge>& edges);
 // Reads the format above; throws naming the path and line on error.
 std::vector<CreaseEdge> ReadCreaseEdges(const std::string& path);
+
+// Writes the borders of painted road marks (texture edges on flat ground,
+// not creases) as text, one per line: x1 y1 z1 x2 y2 z2 (world frame,
+// metres). Lines starting with '#' are comments. Atomic.
+void WritePaintEdges(const std::string& path,
+                     const std::vector<PaintEdge>& edges);
+// Reads the format above; throws naming the path and line on error.
+std::vector<PaintEdge> ReadPaintEdges(const std::string& path);
 
 // Writes the mesh as binary PLY: vertex x y z (float) and material (uchar,
 // the Material enum value), face vertex_indices. Atomic.

@@ -151,6 +151,27 @@ Eigen::Vector3d Roof(const Eigen::Vector2d& uv, uint32_t seed) {
          (0.8 + 0.4 * FractalNoise(uv.x(), uv.y(), 2, seed));
 }
 
+// Road asphalt: dark grey with fine aggregate (bright and dark stones of
+// a few millimetres), slow patches of wear and tar; no joints.
+Eigen::Vector3d Asphalt(const Eigen::Vector2d& uv, uint32_t seed) {
+  const double aggregate =
+      FractalNoise(uv.x() * 120.0, uv.y() * 120.0, 2, seed);
+  const double grain = FractalNoise(uv.x() * 25.0, uv.y() * 25.0, 2, seed + 3);
+  const double wear = FractalNoise(uv.x() * 0.3, uv.y() * 0.3, 3, seed + 6);
+  const double g =
+      0.11 * (0.65 + 0.7 * aggregate) * (0.85 + 0.3 * grain) * (0.8 + 0.4 * wear);
+  return Eigen::Vector3d(g, g, 1.05 * g);
+}
+
+// Road marking paint: white with a little grit showing through where it is
+// worn.
+Eigen::Vector3d Paint(const Eigen::Vector2d& uv, uint32_t seed) {
+  const double wear = FractalNoise(uv.x() * 4.0, uv.y() * 4.0, 3, seed);
+  const double grit = ValueNoise(uv.x() * 90.0, uv.y() * 90.0, seed + 1);
+  const double g = 0.78 * (0.9 + 0.1 * grit) * (wear > 0.8 ? 0.7 : 1.0);
+  return Eigen::Vector3d(g, g, 0.97 * g);
+}
+
 }  // namespace
 
 double ValueNoise(double x, double y, uint32_t seed) {
@@ -206,6 +227,8 @@ Eigen::Vector3d MaterialAlbedo(Material material, const Eigen::Vector2d& uv,
     case Material::kFoliage: return Foliage(uv, texture_seed);
     case Material::kBark: return Bark(uv, texture_seed);
     case Material::kRoof: return Roof(uv, texture_seed);
+    case Material::kAsphalt: return Asphalt(uv, texture_seed);
+    case Material::kPaint: return Paint(uv, texture_seed);
   }
   return Eigen::Vector3d(0.5, 0.5, 0.5);
 }

@@ -1,5 +1,6 @@
 #include "src/synth/trajectory.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -58,6 +59,36 @@ TEST(Trajectory, DeterministicPerSeed) {
   // Open path: first and last frames at the two ends.
   EXPECT_NEAR(a.front().translation.x(), -25.0, 0.2);
   EXPECT_NEAR(a.back().translation.x(), 25.0, 0.2);
+}
+
+// The bent street's walk follows the bend in the right lane: it starts on
+// leg 0 (along +x) and ends on leg 1 (28 deg to the left), keeps 0.9-2 m
+// right of the road's centre line (the kerb is 3.5 m away) and steps
+// evenly through the rounded bend.
+TEST(Trajectory, StreetBentWalkFollowsTheBend) {
+  const SynthScene scene = BuildScene("street_bent");
+  const std::vector<Rigid3d> poses = GenerateTrajectory(scene.path, 30, 5);
+  const double bend = 28.0 * M_PI / 180.0;
+  const Eigen::Vector2d leg1(std::cos(bend), std::sin(bend));
+  std::vector<double> steps;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const Eigen::Vector2d c = poses[i].translation.head<2>();
+    // Signed distance to the left of the centre line, from the leg the
+    // point is closest to (leg 0 for x < 0 before the bisector).
+    const bool on_leg1 = c.dot(Eigen::Vector2d(std::cos(0.5 * bend),
+                                               std::sin(0.5 * bend))) > 0.0;
+    const double left = on_leg1 ? leg1.x() * c.y() - leg1.y() * c.x() : c.y();
+    EXPECT_LT(left, -0.9) << i;
+    EXPECT_GT(left, -2.0) << i;
+    if (i > 0) steps.push_back((c - poses[i - 1].translation.head<2>()).norm());
+  }
+  EXPECT_NEAR(poses.front().translation.x(), -35.0, 0.2);
+  const Eigen::Vector2d end = poses.back().translation.head<2>();
+  EXPECT_NEAR(end.dot(leg1), 35.0, 0.5);
+  const auto [min_step, max_step] =
+      std::minmax_element(steps.begin(), steps.end());
+  EXPECT_GT(*min_step, 2.2);
+  EXPECT_LT(*max_step, 2.6);
 }
 
 TEST(Trajectory, PriorNoiseStatistics) {
