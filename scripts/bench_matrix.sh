@@ -223,9 +223,14 @@ for cell in "${SELECTED[@]}"; do
     mkdir -p "${RUN_DIR}"
     if [[ ! -f "${RUN_DIR}/ws/pipeline/evaluate.done" && ! -f "${RUN_DIR}/ws/pipeline/report.done" ]]; then
       log "${cell}: run ${r}/${RUNS}: automatic_reconstructor"
+      # The real recording's line in the cells file holds options of the
+      # pipeline itself (synthetic cells: of synthesize).
+      RUN_OPTIONS=""
+      [[ "${cell}" == kitti ]] && RUN_OPTIONS="${CELL_OPTIONS[$cell]}"
+      # shellcheck disable=SC2086
       if ! "${BIN}" automatic_reconstructor --workspace_path "${RUN_DIR}/ws" \
           --dataset_path "${DATASET}" \
-          --AutomaticReconstruction.num_threads "${THREADS}" \
+          --AutomaticReconstruction.num_threads "${THREADS}" ${RUN_OPTIONS} \
           > "${RUN_DIR}/pipeline.log" 2>&1; then
         log "${cell}: run ${r} FAILED, see ${RUN_DIR}/pipeline.log"
         echo failed > "${RUN_DIR}/failed"

@@ -174,8 +174,9 @@ TEST(Cli, MeshEvaluatorAlignmentNeedsModelAndPoses) {
                            " --reference_path " + Quote(ply);
   const Result bad_value = RunCli(base + " --alignment affine");
   EXPECT_NE(bad_value.exit_code, 0);
-  EXPECT_TRUE(Contains(bad_value.output, "--alignment must be none, se3 or "
-                                         "sim3, got 'affine'"))
+  EXPECT_TRUE(Contains(bad_value.output,
+                       "--alignment must be none, se3, sim3, se3_axes or "
+                       "sim3_axes, got 'affine'"))
       << bad_value.output;
   const Result no_model = RunCli(base + " --alignment se3");
   EXPECT_NE(no_model.exit_code, 0);

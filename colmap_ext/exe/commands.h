@@ -51,6 +51,8 @@ int RunLineMatcher(int argc, char** argv);
 int RunPoseEvaluator(int argc, char** argv);
 int RunMeshEvaluator(int argc, char** argv);
 int RunLineEvaluator(int argc, char** argv);
+int RunDepthEvaluator(int argc, char** argv);
+int RunRealDataEvaluator(int argc, char** argv);
 
 // mvs_commands.cc (the library functions RunLidarFuser and
 // RunLidarPatchMatchStereo do the work).

@@ -60,6 +60,17 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
   options->AddOption("DelaunayMeshing.lidar_denoise_min_neighbors",
                      &input->lidar_denoising.min_neighbors,
                      "Fewest voxels within the radius for a plane fit, >= 3.");
+  options->AddOption("DelaunayMeshing.view_depth_quantile",
+                     &meshing->view_depth_quantile,
+                     "Quantile of the visual points' depths in their cameras "
+                     "that sets the view region's depth, (0, 1].");
+  options->AddOption("DelaunayMeshing.view_depth_factor",
+                     &meshing->view_depth_factor,
+                     "Crop the input to the cameras' view: inside an image "
+                     "and at most this times that depth quantile in front of "
+                     "the camera; 0 meshes everything (surfaces only the "
+                     "LIDAR sees included). 2 bounds KITTI's meshing to "
+                     "minutes. >= 0.");
   options->AddOption("DelaunayMeshing.max_proj_dist_px",
                      &meshing->max_proj_dist_px,
                      "A visual point whose projection is within this many "

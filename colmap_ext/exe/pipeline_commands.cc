@@ -49,7 +49,12 @@ void AddAutomaticReconstructionOptions(AutomaticReconstructorOptions* o,
   options->AddOption(s + "mesh_alignment", &o->mesh_alignment,
                      "Meshes aligned to the ground truth before their "
                      "evaluation by the refined trajectory's fit: none | "
-                     "se3 | sim3.");
+                     "se3 | sim3 (camera centres) | se3_axes | sim3_axes "
+                     "(centres and orientations, as Tanks and Temples).");
+  options->AddOption(s + "mesh_icp", &o->mesh_icp,
+                     "Evaluate the meshes also after an ICP refinement of "
+                     "that alignment against reference.ply "
+                     "(eval/mesh_*_icp.json).");
   options->AddOption(s + "evaluate_lidar_baseline",
                      &o->evaluate_lidar_baseline,
                      "Evaluate also a Poisson mesh of the registered LIDAR "

@@ -11,6 +11,7 @@
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "src/eval/json_writer.h"
+#include "src/eval/pose_alignment.h"
 
 namespace colmap_lidar {
 namespace {
@@ -32,11 +33,22 @@ double RotationAngleDeg(const Eigen::Quaterniond& a,
 
 }  // namespace
 
+bool IsPoseAlignment(const std::string& alignment) {
+  return alignment == "none" || alignment == "se3" || alignment == "sim3" ||
+         alignment == "se3_axes" || alignment == "sim3_axes";
+}
+
 bool PoseEvaluationOptions::Check() const {
   bool ok = true;
-  if (alignment != "none" && alignment != "se3" && alignment != "sim3") {
-    LOG(ERROR) << "PoseEvaluation.alignment must be none, se3 or sim3, got '"
+  if (!IsPoseAlignment(alignment)) {
+    LOG(ERROR) << "PoseEvaluation.alignment must be none, se3, sim3, "
+                  "se3_axes or sim3_axes, got '"
                << alignment << "'";
+    ok = false;
+  }
+  if (!(axes_weight >= 0.0) || !std::isfinite(axes_weight)) {
+    LOG(ERROR) << "PoseEvaluation.axes_weight must be >= 0, got "
+               << axes_weight;
     ok = false;
   }
   ok &= CheckThresholds(position_thresholds_m,
@@ -116,13 +128,35 @@ PoseEvaluation EvaluatePoses(const Reconstruction& estimate,
     THROW_CHECK(spread > 0.0,
                 "PoseEvaluation.alignment=" << options.alignment
                     << ": all matched model camera centres coincide");
-    const Eigen::Matrix4d transform = Eigen::umeyama(
-        centers_est, centers_gt, /*with_scaling=*/options.alignment == "sim3");
-    evaluation.scale = options.alignment == "sim3"
-                           ? transform.block<3, 1>(0, 0).norm()
-                           : 1.0;
-    evaluation.rotation = transform.block<3, 3>(0, 0) / evaluation.scale;
-    evaluation.translation = transform.block<3, 1>(0, 3);
+    if (options.alignment == "se3" || options.alignment == "sim3") {
+      const Eigen::Matrix4d transform =
+          Eigen::umeyama(centers_est, centers_gt,
+                         /*with_scaling=*/options.alignment == "sim3");
+      evaluation.scale = options.alignment == "sim3"
+                             ? transform.block<3, 1>(0, 0).norm()
+                             : 1.0;
+      evaluation.rotation = transform.block<3, 3>(0, 0) / evaluation.scale;
+      evaluation.translation = transform.block<3, 1>(0, 3);
+    } else {
+      std::vector<Eigen::Vector3d> est(matches.size());
+      std::vector<Eigen::Vector3d> gt(matches.size());
+      std::vector<Eigen::Quaterniond> est_rotations(matches.size());
+      std::vector<Eigen::Quaterniond> gt_rotations(matches.size());
+      for (size_t k = 0; k < matches.size(); ++k) {
+        est[k] = centers_est.col(k);
+        gt[k] = centers_gt.col(k);
+        est_rotations[k] = estimate.images[matches[k].first]
+                               .cam_from_world.rotation.conjugate();
+        gt_rotations[k] = ground_truth[matches[k].second].world_from_cam.rotation;
+      }
+      const TrajectoryAlignment alignment = AlignCentresAndAxes(
+          est, est_rotations, gt, gt_rotations,
+          /*with_scale=*/options.alignment == "sim3_axes",
+          options.axes_weight);
+      evaluation.scale = alignment.scale;
+      evaluation.rotation = alignment.rotation;
+      evaluation.translation = alignment.translation;
+    }
   }
 
   const Eigen::Quaterniond alignment_rotation(evaluation.rotation);

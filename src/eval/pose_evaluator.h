@@ -1,7 +1,10 @@
 // Camera pose accuracy of a sparse model against ground-truth poses, in the
 // manner of evo's APE (Grupp 2017) with Umeyama alignment (Umeyama 1991):
 // the estimated camera centres are aligned to the ground-truth centres by a
-// similarity (sim3), a rigid transform (se3) or not at all (none); then, per
+// similarity (sim3), a rigid transform (se3) or not at all (none), or, as
+// Tanks and Temples does, by the fit of the centres AND the orientations
+// (se3_axes, sim3_axes; see pose_alignment.h: a fit of the centres alone
+// leaves the roll about a straight trajectory free); then, per
 // matched image,
 //   position error  = |s R c_est + t - c_gt|                       (metres)
 //   rotation error  = angle of R_est_aligned^T R_gt                (degrees)
@@ -35,8 +38,13 @@ namespace colmap_lidar {
 struct PoseEvaluationOptions {
   // Alignment of the estimate to the ground truth before measuring: none |
   // se3 (rotation + translation) | sim3 (plus a uniform scale), estimated
-  // by Umeyama on the camera centres of the matched images.
+  // by Umeyama on the camera centres of the matched images | se3_axes |
+  // sim3_axes, the same fitted to the centres and the camera orientations
+  // (AlignCentresAndAxes).
   std::string alignment = "sim3";
+  // *_axes only: weight of the orientations against the centres, >= 0; 1
+  // puts the axis points at the RMS spread of the centres (pose_alignment.h).
+  double axes_weight = 1.0;
   // Position error thresholds in metres for the recalls; positive and
   // strictly increasing.
   std::vector<double> position_thresholds_m = {0.02, 0.05, 0.2, 0.5};
@@ -56,7 +64,7 @@ struct ImagePoseError {
 struct PoseEvaluation {
   std::string alignment;
   // The applied alignment x_gt ~ scale * rotation * x_est + translation
-  // (identity for "none"; scale 1 for "se3").
+  // (identity for "none"; scale 1 for "se3" and "se3_axes").
   double scale = 1.0;
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
@@ -84,9 +92,12 @@ struct PoseEvaluation {
   std::vector<double> pose_recalls;
 };
 
-// Throws colmap_lidar::Error when the options are invalid, or when se3/sim3
-// alignment has fewer than 3 matched images (naming the counts), or when
+// Throws colmap_lidar::Error when the options are invalid, or when an
+// alignment other than none has fewer than 3 matched images (naming the counts), or when
 // the matched centres are degenerate (all identical).
+// True for the alignment values PoseEvaluationOptions accepts.
+bool IsPoseAlignment(const std::string& alignment);
+
 PoseEvaluation EvaluatePoses(const Reconstruction& estimate,
                              const std::vector<FramePose>& ground_truth,
                              const PoseEvaluationOptions& options);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 #include <Eigen/Eigenvalues>
 #include <glog/logging.h>
@@ -160,55 +161,68 @@ Rigid3d RefinePointToPlane(const Level& source, const Level& target,
   const size_t n = source.cloud->size();
   const float max_distance2 =
       static_cast<float>(max_distance_m * max_distance_m);
-  const int num_chunks = std::max(1, num_threads > 0 ? num_threads : 2);
+  // A regular subsample of at most kMaxPoints source points: enough for six
+  // unknowns, and it keeps the share of the rare surfaces that fix a weak
+  // direction, at a fraction of the nearest-neighbour queries.
+  constexpr size_t kMaxPoints = 6000;
+  const size_t stride = std::max<size_t>(1, (n + kMaxPoints - 1) / kMaxPoints);
+  const size_t num_samples = (n + stride - 1) / stride;
+  struct NormalEquations {
+    size_t begin = 0;
+    Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> gradient = Eigen::Matrix<double, 6, 1>::Zero();
+    int count = 0;
+  };
   int iteration = 0;
   for (; iteration < max_iterations; ++iteration) {
     const Eigen::Matrix3d rotation =
         target_from_source.rotation.normalized().toRotationMatrix();
-    // Per-chunk normal equations, summed afterwards (deterministic for a
-    // given thread count).
-    std::vector<Eigen::Matrix<double, 6, 6>> hessians(
-        num_chunks, Eigen::Matrix<double, 6, 6>::Zero());
-    std::vector<Eigen::Matrix<double, 6, 1>> gradients(
-        num_chunks, Eigen::Matrix<double, 6, 1>::Zero());
-    std::vector<int> counts(num_chunks, 0);
-    const size_t chunk = (n + num_chunks - 1) / num_chunks;
-    ParallelFor(num_chunks, num_threads, [&](size_t begin, size_t end) {
+    // Per-chunk normal equations, summed in chunk order afterwards
+    // (deterministic for a given thread count).
+    std::vector<NormalEquations> chunks;
+    std::mutex chunks_mutex;
+    ParallelFor(num_samples, num_threads, [&](size_t begin, size_t end) {
+      NormalEquations local;
+      local.begin = begin;
       pcl::Indices indices(1);
       std::vector<float> distances2(1);
-      for (size_t c = begin; c < end; ++c) {
-        for (size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
-          const Eigen::Vector3d p =
-              (*source.cloud)[i].getVector3fMap().cast<double>();
-          const Eigen::Vector3d moved = target_from_source * p;
-          const pcl::PointXYZ query(static_cast<float>(moved.x()),
-                                    static_cast<float>(moved.y()),
-                                    static_cast<float>(moved.z()));
-          if (target.tree->nearestKSearch(query, 1, indices, distances2) != 1 ||
-              distances2[0] > max_distance2) {
-            continue;
-          }
-          const Eigen::Vector3d& normal = target.normals[indices[0]];
-          const Eigen::Vector3d q =
-              (*target.cloud)[indices[0]].getVector3fMap().cast<double>();
-          const double residual = normal.dot(moved - q);
-          const Eigen::Vector3d normal_in_source =
-              rotation.transpose() * normal;
-          Eigen::Matrix<double, 6, 1> jacobian;
-          jacobian << p.cross(normal_in_source), normal_in_source;
-          hessians[c] += jacobian * jacobian.transpose();
-          gradients[c] += jacobian * residual;
-          ++counts[c];
+      for (size_t sample = begin; sample < end; ++sample) {
+        const size_t i = sample * stride;
+        const Eigen::Vector3d p =
+            (*source.cloud)[i].getVector3fMap().cast<double>();
+        const Eigen::Vector3d moved = target_from_source * p;
+        const pcl::PointXYZ query(static_cast<float>(moved.x()),
+                                  static_cast<float>(moved.y()),
+                                  static_cast<float>(moved.z()));
+        if (target.tree->nearestKSearch(query, 1, indices, distances2) != 1 ||
+            distances2[0] > max_distance2) {
+          continue;
         }
+        const Eigen::Vector3d& normal = target.normals[indices[0]];
+        const Eigen::Vector3d q =
+            (*target.cloud)[indices[0]].getVector3fMap().cast<double>();
+        const double residual = normal.dot(moved - q);
+        const Eigen::Vector3d normal_in_source = rotation.transpose() * normal;
+        Eigen::Matrix<double, 6, 1> jacobian;
+        jacobian << p.cross(normal_in_source), normal_in_source;
+        local.hessian += jacobian * jacobian.transpose();
+        local.gradient += jacobian * residual;
+        ++local.count;
       }
+      const std::lock_guard<std::mutex> lock(chunks_mutex);
+      chunks.push_back(local);
     });
+    std::sort(chunks.begin(), chunks.end(),
+              [](const NormalEquations& a, const NormalEquations& b) {
+                return a.begin < b.begin;
+              });
     Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> gradient = Eigen::Matrix<double, 6, 1>::Zero();
     int count = 0;
-    for (int c = 0; c < num_chunks; ++c) {
-      hessian += hessians[c];
-      gradient += gradients[c];
-      count += counts[c];
+    for (const NormalEquations& chunk : chunks) {
+      hessian += chunk.hessian;
+      gradient += chunk.gradient;
+      count += chunk.count;
     }
     if (count < 7) {
       break;

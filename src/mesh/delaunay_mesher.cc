@@ -9,6 +9,7 @@
 #include "colmap_ext/util/logging.h"
 #include "src/mesh/graph_cut.h"
 #include "src/mesh/point_decimation.h"
+#include "src/mesh/progress_watchdog.h"
 
 namespace colmap_lidar {
 namespace {
@@ -95,6 +96,7 @@ TriangleMesh ExtractSurface(const MeshingTriangulation& triangulation,
 }  // namespace
 
 bool DelaunayMeshingOptions::Check() const {
+  if (!ViewOptions().Check()) return false;
   if (!TriangulationOptions().Check()) return false;
   if (!VisibilityOptions().Check()) return false;
   if (!CleanupOptions().Check()) return false;
@@ -107,6 +109,13 @@ bool DelaunayMeshingOptions::Check() const {
     return false;
   }
   return true;
+}
+
+ViewRegionOptions DelaunayMeshingOptions::ViewOptions() const {
+  ViewRegionOptions options;
+  options.depth_quantile = view_depth_quantile;
+  options.depth_factor = view_depth_factor;
+  return options;
 }
 
 DelaunayTriangulationOptions DelaunayMeshingOptions::TriangulationOptions()
@@ -157,32 +166,63 @@ TriangleMesh DelaunayMeshing(const DelaunayMeshingOptions& options,
   DelaunayMeshingSummary summary;
   summary.num_input_points = input_in.NumPoints();
 
+  // With view_depth_factor > 0 only the region the images see is meshed
+  // (view_region.h); a copy is made only when points fall outside it.
+  MeshingInput reduced;
+  const MeshingInput* input = &input_in;
+  summary.view_max_depth_m = ViewRegionMaxDepth(options.ViewOptions(),
+                                                input_in);
+  if (summary.view_max_depth_m > 0) {
+    size_t num_outside = 0;
+    for (const Eigen::Vector3d& position : input_in.positions) {
+      num_outside +=
+          !IsInViewRegion(input_in, summary.view_max_depth_m, position);
+    }
+    if (num_outside > 0) {
+      reduced = input_in;
+      summary.num_points_outside_view =
+          CropToViewRegion(summary.view_max_depth_m, &reduced);
+      input = &reduced;
+    }
+    LOG(INFO) << "View region: depth <= " << summary.view_max_depth_m
+              << " m in a camera's image; " << summary.num_points_outside_view
+              << " of " << input_in.NumPoints() << " points outside, removed";
+    THROW_CHECK(input->NumPoints() >= 4,
+                "Delaunay meshing: only " << input->NumPoints()
+                    << " points lie in the cameras' view region");
+  }
+
   // Memory guard.
   const size_t max_num_points = static_cast<size_t>(
       options.max_memory_gb * (1ull << 30) / kEstimatedBytesPerPoint);
-  MeshingInput decimated;
-  const MeshingInput* input = &input_in;
-  if (input_in.NumPoints() > max_num_points) {
-    LOG(WARNING) << input_in.NumPoints() << " points exceed the memory guard ("
+  if (input->NumPoints() > max_num_points) {
+    LOG(WARNING) << input->NumPoints() << " points exceed the memory guard ("
                  << max_num_points << " points for " << options.max_memory_gb
                  << " GiB); decimating";
-    decimated = input_in;
+    if (input != &reduced) reduced = input_in;
     summary.decimation_voxel_size_m =
-        DecimateMeshingInput(max_num_points, &decimated);
-    input = &decimated;
+        DecimateMeshingInput(max_num_points, &reduced);
+    input = &reduced;
   }
 
   StageTimer timer;
   MeshingTriangulation triangulation;
-  BuildMeshingTriangulation(options.TriangulationOptions(), *input,
-                            &triangulation);
+  {
+    const ProgressWatchdog watchdog("Delaunay triangulation");
+    BuildMeshingTriangulation(options.TriangulationOptions(), *input,
+                              &triangulation);
+  }
   summary.num_vertices = triangulation.NumVertices();
   summary.num_cells = triangulation.NumCells();
   summary.triangulation_seconds = timer.Seconds();
 
   timer = StageTimer();
-  CellGraphWeights weights =
-      IntegrateVisibility(options.VisibilityOptions(), *input, triangulation);
+  CellGraphWeights weights;
+  {
+    const ProgressWatchdog watchdog("Visibility integration");
+    weights = IntegrateVisibility(options.VisibilityOptions(), *input,
+                                  triangulation);
+  }
   summary.num_rays = weights.num_rays;
   summary.num_failed_walks = weights.num_failed_walks;
   summary.distance_sigma_m = weights.distance_sigma;
@@ -222,17 +262,27 @@ TriangleMesh DelaunayMeshing(const DelaunayMeshingOptions& options,
     }
   }
   std::vector<float>().swap(weights.facet_in);
-  const GraphCutResult cut =
-      ComputeMinStCut(weights.source, weights.sink, edges);
+  GraphCutResult cut;
+  {
+    // Boost's max-flow has no progress callback: the watchdog logs the
+    // elapsed time.
+    const ProgressWatchdog watchdog("Graph cut (max-flow)");
+    cut = ComputeMinStCut(weights.source, weights.sink, edges);
+  }
   std::vector<GraphCutEdge>().swap(edges);
   summary.max_flow = cut.max_flow;
   summary.graph_cut_seconds = timer.Seconds();
   LOG(INFO) << "Graph cut: " << triangulation.NumCells() << " cells, flow "
-            << cut.max_flow << ", " << summary.graph_cut_seconds << " s";
+            << cut.max_flow << ", "
+            << summary.graph_cut_seconds << " s";
 
-  TriangleMesh mesh = ExtractSurface(triangulation, cut.is_source_side);
-  summary.num_surface_faces = mesh.faces.size();
-  summary.cleanup = CleanupMesh(options.CleanupOptions(), &mesh);
+  TriangleMesh mesh;
+  {
+    const ProgressWatchdog watchdog("Surface extraction and clean-up");
+    mesh = ExtractSurface(triangulation, cut.is_source_side);
+    summary.num_surface_faces = mesh.faces.size();
+    summary.cleanup = CleanupMesh(options.CleanupOptions(), &mesh);
+  }
   summary.num_faces = mesh.faces.size();
   summary.num_mesh_vertices = mesh.vertices.size();
   summary.total_seconds = total_timer.Seconds();

@@ -26,6 +26,7 @@
 #include "src/mesh/delaunay_triangulation.h"
 #include "src/mesh/meshing_input.h"
 #include "src/mesh/triangle_mesh.h"
+#include "src/mesh/view_region.h"
 #include "src/mesh/visibility_integration.h"
 
 namespace colmap_lidar {
@@ -35,6 +36,14 @@ namespace colmap_lidar {
 constexpr double kEstimatedBytesPerPoint = 2500.0;
 
 struct DelaunayMeshingOptions {
+  // With view_depth_factor > 0 the input is cropped to the region the
+  // images see (view_region.h): inside a camera's image, at most
+  // view_depth_factor times the view_depth_quantile of the visual points'
+  // depths in front of it. 0 (default) meshes everything. 2 makes KITTI's
+  // 20 frames mesh in 95 s instead of > 34 min, but on the quad it drops the
+  // surfaces only the LIDAR sees (recall at 0.1 m 0.83 -> 0.60), hence off.
+  double view_depth_quantile = 0.95;
+  double view_depth_factor = 0.0;
   // Vertex merging (see delaunay_triangulation.h): pixels, relative depth,
   // metres. max_proj_dist_px = 0 inserts every visual point.
   double max_proj_dist_px = 2.0;
@@ -56,6 +65,7 @@ struct DelaunayMeshingOptions {
   int num_threads = -1;
 
   bool Check() const;
+  ViewRegionOptions ViewOptions() const;
   DelaunayTriangulationOptions TriangulationOptions() const;
   VisibilityIntegrationOptions VisibilityOptions() const;
   MeshCleanupOptions CleanupOptions() const;
@@ -63,6 +73,10 @@ struct DelaunayMeshingOptions {
 
 struct DelaunayMeshingSummary {
   size_t num_input_points = 0;
+  // Maximum depth of the view region (0: no cropping) and the points
+  // outside it, removed.
+  double view_max_depth_m = 0;
+  size_t num_points_outside_view = 0;
   // Voxel size of the memory guard's decimation; 0 if none.
   double decimation_voxel_size_m = 0;
   size_t num_vertices = 0;

@@ -174,6 +174,8 @@ void AddCameraSensors(const Reconstruction& model, MeshingInput* input) {
     sensor.is_camera = true;
     sensor.proj_matrix =
         camera_it->second.CalibrationMatrix() * image.cam_from_world.ToMatrix();
+    sensor.image_width = static_cast<int>(camera_it->second.width);
+    sensor.image_height = static_cast<int>(camera_it->second.height);
     input->sensors.push_back(sensor);
   }
 }

@@ -36,6 +36,10 @@ struct MeshingSensor {
   bool is_camera = false;
   // K * [R | t] (pinhole part of the camera; the dense workspace is PINHOLE).
   Eigen::Matrix3x4d proj_matrix = Eigen::Matrix3x4d::Zero();
+  // Image size of a camera, pixels (0 for LIDAR origins); bounds the region
+  // the images see (view_region.h).
+  int image_width = 0;
+  int image_height = 0;
 };
 
 struct MeshingInput {

@@ -9,6 +9,10 @@
 namespace colmap_lidar {
 namespace {
 
+// Fewer shared sparse points than this: the angle test falls back to the
+// reference's median-depth point on its optical axis.
+constexpr size_t kMinSharedPointsForAngle = 5;
+
 double Median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   std::nth_element(values.begin(), values.begin() + values.size() / 2,
@@ -29,6 +33,7 @@ SourceViewSelector::SourceViewSelector(
   std::unordered_map<image_t, int> id_to_idx;
   for (size_t i = 0; i < n; ++i) id_to_idx[model.images[i].image_id] = i;
   std::vector<std::vector<double>> depths(n);
+  points_of_image_.assign(n, {});
   for (const auto& [point3D_id, point] : model.points3D) {
     std::vector<int> indices;
     for (const TrackElement& element : point.track) {
@@ -37,6 +42,11 @@ SourceViewSelector::SourceViewSelector(
     }
     std::sort(indices.begin(), indices.end());
     indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+    if (indices.size() >= 2) {
+      for (const int index : indices) {
+        points_of_image_[index].push_back(&point);
+      }
+    }
     for (size_t a = 0; a < indices.size(); ++a) {
       const Image& image = model.images[indices[a]];
       depths[indices[a]].push_back((image.cam_from_world * point.xyz).z());
@@ -95,6 +105,27 @@ std::vector<int> SourceViewSelector::Select(int ref_idx,
   }
   const Image& ref = model_.images[ref_idx];
   const Eigen::Vector3d ref_center = ref.ProjectionCenter();
+  // Triangulation angles of the sparse points the reference shares with
+  // each candidate: a camera moving along its optical axis (a car on a
+  // road) sees the point ahead under no angle at all, its periphery under
+  // a useful one.
+  std::vector<std::vector<double>> shared_angles(n);
+  {
+    std::unordered_map<image_t, int> id_to_idx;
+    for (int i = 0; i < n; ++i) id_to_idx[model_.images[i].image_id] = i;
+    for (const Point3D* point : points_of_image_[ref_idx]) {
+      const Eigen::Vector3d to_ref = (ref_center - point->xyz).normalized();
+      for (const TrackElement& element : point->track) {
+        const auto it = id_to_idx.find(element.image_id);
+        if (it == id_to_idx.end() || it->second == ref_idx) continue;
+        const Eigen::Vector3d to_other =
+            (model_.images[it->second].ProjectionCenter() - point->xyz)
+                .normalized();
+        shared_angles[it->second].push_back(
+            std::acos(std::clamp(to_ref.dot(to_other), -1.0, 1.0)));
+      }
+    }
+  }
   const Eigen::Vector3d ref_axis =
       ref.cam_from_world.rotation.inverse() * Eigen::Vector3d::UnitZ();
   const double median_depth = median_depth_[ref_idx];
@@ -107,7 +138,9 @@ std::vector<int> SourceViewSelector::Select(int ref_idx,
         shared_points_[ref_idx][i] +
         options_.lidar_covisibility_weight * shared_voxels_[ref_idx][i];
     if (score <= 0) continue;
-    if (median_depth > 0) {
+    if (shared_angles[i].size() >= kMinSharedPointsForAngle) {
+      if (Median(shared_angles[i]) < min_angle) continue;
+    } else if (median_depth > 0) {
       const Eigen::Vector3d a = ref_center - scene_point;
       const Eigen::Vector3d b = model_.images[i].ProjectionCenter() - scene_point;
       const double angle = std::acos(std::clamp(

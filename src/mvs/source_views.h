@@ -4,7 +4,9 @@
 // lidar_covisibility_weight x the number of LIDAR voxels both frames' scans
 // hit. Candidates must see the reference's median-depth point (from its
 // sparse points, else its LIDAR voxels) under at least
-// min_triangulation_angle_deg. patch-match.cfg decides the candidates:
+// min_triangulation_angle_deg; when they share at least 5 sparse points, the
+// median triangulation angle of those points must reach it instead (the
+// point ahead of a camera moving along its axis is seen under no angle). patch-match.cfg decides the candidates:
 // "__auto__, N" and "__all__" rank all other images (at most
 // min(N, max_num_src_images)); an explicit list is taken as given (names
 // not in the model are skipped with a warning).
@@ -43,6 +45,9 @@ class SourceViewSelector {
   std::vector<std::vector<int>> shared_points_;
   std::vector<std::vector<int>> shared_voxels_;
   std::vector<double> median_depth_;
+  // Sparse points seen by each image and at least one other (pointers into
+  // model_.points3D).
+  std::vector<std::vector<const Point3D*>> points_of_image_;
 };
 
 }  // namespace colmap_lidar

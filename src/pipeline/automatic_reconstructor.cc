@@ -276,10 +276,12 @@ std::string RunEvaluateStage(const PipelineContext& context) {
   input.mapper_model_path = context.paths.mapper_model;
   input.mesh_path = context.paths.mesh;
   input.lidar_cloud_path = LidarFusedPlyPath(context.paths.dense);
+  input.database_path = context.paths.database;
   input.output_path = context.paths.eval;
   PipelineEvaluationOptions options;
   options.mesh = context.options->mesh_evaluation;
   options.mesh_alignment = context.options->mesh_alignment;
+  options.mesh_icp = context.options->mesh_icp;
   options.lidar_baseline = context.options->evaluate_lidar_baseline;
   options.poisson_depth = context.options->lidar_baseline_poisson_depth;
   options.poisson_trim = context.options->lidar_baseline_poisson_trim;
@@ -366,8 +368,11 @@ std::string WhyNotApplicable(const PipelineStage stage,
       }
       return "";
     case PipelineStage::kEvaluate:
-      if (!HasGroundTruth(context.dataset_path)) {
-        return "the recording has no poses_gt.txt or reference.ply";
+      // Without ground truth: the real-data figures of the refined model.
+      if (!HasGroundTruth(context.dataset_path) &&
+          !ExistsModel(paths.refined_model)) {
+        return "the recording has no poses_gt.txt or reference.ply and "
+               "there is no refined model";
       }
       return "";
     default:
@@ -413,9 +418,11 @@ bool AutomaticReconstructorOptions::Check() const {
                  "AutomaticReconstruction.fusion_input_type geometric needs "
                  "the PatchMatch geometric pass (geom_consistency)");
   PIPELINE_CHECK(mesh_alignment == "none" || mesh_alignment == "se3" ||
-                     mesh_alignment == "sim3",
-                 "AutomaticReconstruction.mesh_alignment must be none, se3 "
-                 "or sim3, got '"
+                     mesh_alignment == "sim3" ||
+                     mesh_alignment == "se3_axes" ||
+                     mesh_alignment == "sim3_axes",
+                 "AutomaticReconstruction.mesh_alignment must be none, se3, "
+                 "sim3, se3_axes or sim3_axes, got '"
                      << mesh_alignment << "'");
   PIPELINE_CHECK(lidar_baseline_poisson_depth >= 1 &&
                      lidar_baseline_poisson_depth <= 16,

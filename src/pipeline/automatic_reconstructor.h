@@ -87,8 +87,12 @@ struct AutomaticReconstructorOptions {
   bool mesh_with_lines = true;
 
   // Evaluation: alignment of the meshes to the ground truth (none | se3 |
-  // sim3, from the refined trajectory; see PipelineEvaluationOptions).
-  std::string mesh_alignment = "se3";
+  // sim3 | se3_axes | sim3_axes, from the refined trajectory; see
+  // PipelineEvaluationOptions).
+  std::string mesh_alignment = "se3_axes";
+  // Evaluation: also evaluate the meshes after an ICP refinement of that
+  // alignment against reference.ply (mesh_*_icp.json).
+  bool mesh_icp = true;
   // Evaluation: also mesh the registered LIDAR cloud with stock
   // poisson_mesher (the LIDAR-only baseline of the paper's Table II).
   bool evaluate_lidar_baseline = true;

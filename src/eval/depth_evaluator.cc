@@ -1,0 +1,400 @@
+#include "src/eval/depth_evaluator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+#include "colmap_ext/mvs/workspace.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/parallel.h"
+#include "src/dataset/calibration.h"
+#include "src/eval/eval_stats.h"
+#include "src/eval/json_writer.h"
+
+namespace colmap_lidar {
+namespace {
+
+bool IsDistortionFree(CameraModelId model_id) {
+  return model_id == CameraModelId::kSimplePinhole ||
+         model_id == CameraModelId::kPinhole;
+}
+
+// The truth's z-depth at the truth pixel coordinates (x = col, y = row),
+// or 0 when the nearest pixel is outside or invalid. See the header for
+// the bilinear rule.
+float SampleTruth(const DepthMap& truth, double x, double y,
+                  double max_bilinear_spread) {
+  const double width = static_cast<double>(truth.GetWidth());
+  const double height = static_cast<double>(truth.GetHeight());
+  const double col_nearest = std::round(x);
+  const double row_nearest = std::round(y);
+  if (!(col_nearest >= 0 && row_nearest >= 0 && col_nearest < width &&
+        row_nearest < height)) {
+    return 0.0f;
+  }
+  const float nearest = truth.Get(static_cast<size_t>(row_nearest),
+                                  static_cast<size_t>(col_nearest));
+  if (!(nearest > 0)) return 0.0f;
+  const double col0 = std::floor(x);
+  const double row0 = std::floor(y);
+  if (max_bilinear_spread <= 0 || col0 < 0 || row0 < 0 ||
+      col0 + 1 >= width || row0 + 1 >= height) {
+    return nearest;
+  }
+  const size_t c = static_cast<size_t>(col0);
+  const size_t r = static_cast<size_t>(row0);
+  const float d00 = truth.Get(r, c);
+  const float d01 = truth.Get(r, c + 1);
+  const float d10 = truth.Get(r + 1, c);
+  const float d11 = truth.Get(r + 1, c + 1);
+  const float lo = std::min({d00, d01, d10, d11});
+  const float hi = std::max({d00, d01, d10, d11});
+  if (!(lo > 0) || hi - lo > max_bilinear_spread * lo) return nearest;
+  const double a = x - col0;
+  const double b = y - row0;
+  return static_cast<float>((1 - b) * ((1 - a) * d00 + a * d01) +
+                            b * ((1 - a) * d10 + a * d11));
+}
+
+// "12.3 %".
+std::string Percent(double share) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(1) << 100.0 * share << " %";
+  return text.str();
+}
+
+std::string FrameOfImage(const std::string& image_name) {
+  return std::filesystem::path(image_name).stem().string();
+}
+
+void WriteStats(JsonWriter* json, const DepthStats& stats) {
+  json->BeginObject();
+  json->Field("coverage", stats.coverage);
+  for (size_t i = 0; i < stats.thresholds_m.size(); ++i) {
+    json->Field(DepthThresholdKey(stats.thresholds_m[i]), stats.within[i]);
+  }
+  json->Field("median_abs_error_m", stats.median_abs_error_m);
+  json->Field("mean_abs_error_m", stats.mean_abs_error_m);
+  json->Field("num_pixels", static_cast<uint64_t>(stats.num_pixels));
+  json->Field("num_truth_valid", static_cast<uint64_t>(stats.num_truth_valid));
+  json->Field("num_covered", static_cast<uint64_t>(stats.num_covered));
+  json->Field("num_without_truth",
+              static_cast<uint64_t>(stats.num_without_truth));
+  json->EndObject();
+}
+
+}  // namespace
+
+bool DepthEvaluationOptions::Check() const {
+  if (!CheckThresholds(thresholds_m, "DepthEvaluation.thresholds_m")) {
+    return false;
+  }
+  if (!(max_bilinear_spread >= 0 && std::isfinite(max_bilinear_spread))) {
+    LOG(ERROR) << "DepthEvaluation.max_bilinear_spread must be >= 0, got "
+               << max_bilinear_spread;
+    return false;
+  }
+  if (map_types.empty()) {
+    LOG(ERROR) << "DepthEvaluation.map_types must name at least one type";
+    return false;
+  }
+  for (const std::string& type : map_types) {
+    if (type != "photometric" && type != "geometric") {
+      LOG(ERROR) << "DepthEvaluation.map_types: unknown type '" << type
+                 << "' (photometric | geometric)";
+      return false;
+    }
+  }
+  return true;
+}
+
+void DepthErrors::Append(const DepthErrors& other) {
+  num_pixels += other.num_pixels;
+  num_truth_valid += other.num_truth_valid;
+  num_covered += other.num_covered;
+  num_without_truth += other.num_without_truth;
+  abs_errors_m.insert(abs_errors_m.end(), other.abs_errors_m.begin(),
+                      other.abs_errors_m.end());
+}
+
+DepthStats ComputeDepthStats(const DepthErrors& errors,
+                             const std::vector<double>& thresholds_m) {
+  DepthStats stats;
+  stats.num_pixels = errors.num_pixels;
+  stats.num_truth_valid = errors.num_truth_valid;
+  stats.num_covered = errors.num_covered;
+  stats.num_without_truth = errors.num_without_truth;
+  stats.thresholds_m = thresholds_m;
+  stats.within.assign(thresholds_m.size(), 0.0);
+  if (errors.num_truth_valid > 0) {
+    stats.coverage = static_cast<double>(errors.num_covered) /
+                     static_cast<double>(errors.num_truth_valid);
+  }
+  const std::vector<float>& values = errors.abs_errors_m;
+  if (values.empty()) return stats;
+  const double count = static_cast<double>(values.size());
+  for (size_t i = 0; i < thresholds_m.size(); ++i) {
+    stats.within[i] =
+        static_cast<double>(std::count_if(
+            values.begin(), values.end(),
+            [&](float error) { return error < thresholds_m[i]; })) /
+        count;
+  }
+  stats.mean_abs_error_m =
+      std::accumulate(values.begin(), values.end(), 0.0) / count;
+  std::vector<float> sorted = values;
+  const size_t middle = sorted.size() / 2;
+  std::nth_element(sorted.begin(), sorted.begin() + middle, sorted.end());
+  double median = sorted[middle];
+  if (sorted.size() % 2 == 0) {
+    median = 0.5 * (median + *std::max_element(sorted.begin(),
+                                               sorted.begin() + middle));
+  }
+  stats.median_abs_error_m = median;
+  return stats;
+}
+
+DepthErrors CompareDepthMaps(const DepthMap& estimate,
+                             const Eigen::Matrix3d& K_estimate,
+                             const DepthMap& truth, const Camera& truth_camera,
+                             const DepthEvaluationOptions& options) {
+  truth_camera.Check();
+  THROW_CHECK(truth.GetWidth() == truth_camera.width &&
+                  truth.GetHeight() == truth_camera.height,
+              "Ground-truth depth map of " << truth.GetWidth() << " x "
+                                           << truth.GetHeight()
+                                           << " for a camera of "
+                                           << truth_camera.width << " x "
+                                           << truth_camera.height);
+  const bool check_fold = !IsDistortionFree(truth_camera.model_id);
+  DepthErrors errors;
+  errors.num_pixels = estimate.GetWidth() * estimate.GetHeight();
+  for (size_t row = 0; row < estimate.GetHeight(); ++row) {
+    for (size_t col = 0; col < estimate.GetWidth(); ++col) {
+      const Eigen::Vector3d ray = MvsPixelRay(K_estimate, row, col);
+      if (!(ray.z() > 0)) continue;
+      const Eigen::Vector2d pixel = truth_camera.ImgFromCam(ray);
+      // A distortion polynomial folds some rays from outside its field of
+      // view back into the image: those pixels do not see along this ray.
+      if (check_fold &&
+          (truth_camera.CamFromImg(pixel) - ray.hnormalized()).norm() >
+              1e-6) {
+        continue;
+      }
+      const float truth_depth = SampleTruth(truth, pixel.x(), pixel.y(),
+                                            options.max_bilinear_spread);
+      const bool has_estimate = estimate.IsValid(row, col);
+      if (!(truth_depth > 0)) {
+        errors.num_without_truth += has_estimate ? 1 : 0;
+        continue;
+      }
+      ++errors.num_truth_valid;
+      if (!has_estimate) continue;
+      ++errors.num_covered;
+      errors.abs_errors_m.push_back(
+          std::abs(estimate.Get(row, col) - truth_depth));
+    }
+  }
+  return errors;
+}
+
+DepthEvaluation EvaluateDepthMaps(const std::string& dense_path,
+                                  const std::string& dataset_path,
+                                  const DepthEvaluationOptions& options) {
+  THROW_CHECK(options.Check(), "Invalid depth evaluation options");
+  const std::string truth_dir =
+      JoinPaths(dataset_path, "ground_truth/depth_maps");
+  THROW_CHECK(ExistsDir(truth_dir),
+              "No ground-truth depth maps: " << truth_dir << " is missing");
+  const Camera truth_camera =
+      ReadCalibration(JoinPaths(dataset_path, "calibration.yaml")).camera;
+  const DenseWorkspace workspace(dense_path);
+  const Reconstruction model = workspace.ReadModel();
+
+  DepthEvaluation evaluation;
+  evaluation.thresholds_m = options.thresholds_m;
+  std::vector<DenseMapType> types;
+  for (const std::string& name : options.map_types) {
+    const DenseMapType type = DenseMapTypeFromString(name);
+    bool any = false;
+    for (const Image& image : model.images) {
+      any = any || ExistsFile(workspace.DepthMapPath(image.name, type));
+    }
+    if (!any) {
+      LOG(WARNING) << "depth evaluation: no " << name << " depth map in "
+                   << workspace.DepthMapsDir() << "; skipped";
+      continue;
+    }
+    types.push_back(type);
+    evaluation.map_types.push_back(name);
+  }
+  THROW_CHECK(!types.empty(), "No depth maps of the types asked for in "
+                                  << workspace.DepthMapsDir());
+
+  std::vector<const Image*> images;
+  for (const Image& image : model.images) {
+    if (ExistsFile(
+            JoinPaths(truth_dir, FrameOfImage(image.name) + ".bin"))) {
+      images.push_back(&image);
+    } else {
+      ++evaluation.num_images_without_truth;
+    }
+  }
+  std::sort(images.begin(), images.end(),
+            [](const Image* a, const Image* b) { return a->name < b->name; });
+  THROW_CHECK(!images.empty(), "No image of " << workspace.SparseDir()
+                                              << " has a ground-truth depth "
+                                                 "map in "
+                                              << truth_dir);
+  if (evaluation.num_images_without_truth > 0) {
+    LOG(WARNING) << "depth evaluation: " << evaluation.num_images_without_truth
+                 << " images without a ground-truth depth map; skipped";
+  }
+
+  // errors[image][type].
+  std::vector<std::vector<DepthErrors>> errors(
+      images.size(), std::vector<DepthErrors>(types.size()));
+  ParallelFor(0, static_cast<int>(images.size()), options.num_threads,
+              [&](int i) {
+                const Image& image = *images[i];
+                const auto camera_it = model.cameras.find(image.camera_id);
+                THROW_CHECK(camera_it != model.cameras.end(),
+                            "Image " << image.name << " of "
+                                     << workspace.SparseDir()
+                                     << " has no camera");
+                const Camera& camera = camera_it->second;
+                const DepthMap truth = DepthMap::Read(JoinPaths(
+                    truth_dir, FrameOfImage(image.name) + ".bin"));
+                for (size_t t = 0; t < types.size(); ++t) {
+                  const std::string path =
+                      workspace.DepthMapPath(image.name, types[t]);
+                  if (!ExistsFile(path)) continue;
+                  const DepthMap estimate = DepthMap::Read(path);
+                  const Eigen::Matrix3d K = ScaleCalibrationToMap(
+                      camera.CalibrationMatrix(), camera.width, camera.height,
+                      estimate.GetWidth(), estimate.GetHeight());
+                  errors[i][t] = CompareDepthMaps(estimate, K, truth,
+                                                  truth_camera, options);
+                }
+              });
+
+  evaluation.overall.resize(types.size());
+  for (size_t t = 0; t < types.size(); ++t) {
+    DepthErrors all;
+    for (size_t i = 0; i < images.size(); ++i) {
+      all.Append(errors[i][t]);
+    }
+    evaluation.overall[t] = ComputeDepthStats(all, options.thresholds_m);
+  }
+  for (size_t i = 0; i < images.size(); ++i) {
+    DepthImageEvaluation image;
+    image.image_name = images[i]->name;
+    for (size_t t = 0; t < types.size(); ++t) {
+      image.stats.push_back(
+          ComputeDepthStats(errors[i][t], options.thresholds_m));
+    }
+    evaluation.images.push_back(std::move(image));
+  }
+  return evaluation;
+}
+
+std::string DepthThresholdKey(double threshold_m) {
+  std::ostringstream key;
+  key << "within_" << std::setprecision(6) << threshold_m * 100.0 << "cm";
+  return key.str();
+}
+
+std::string DepthSummary(const DepthEvaluation& evaluation,
+                         const std::string& map_type) {
+  const auto it = std::find(evaluation.map_types.begin(),
+                            evaluation.map_types.end(), map_type);
+  if (it == evaluation.map_types.end()) return "";
+  const DepthStats& stats =
+      evaluation.overall[it - evaluation.map_types.begin()];
+  std::ostringstream text;
+  text << map_type << ":";
+  for (size_t i = 0; i < stats.thresholds_m.size(); ++i) {
+    text << (i > 0 ? "," : "") << " " << Percent(stats.within[i])
+         << " within " << std::setprecision(6)
+         << stats.thresholds_m[i] * 100.0 << " cm";
+  }
+  text << ", coverage " << Percent(stats.coverage) << ", median "
+       << std::fixed << std::setprecision(2)
+       << stats.median_abs_error_m * 100.0 << " cm";
+  return text.str();
+}
+
+std::string FormatDepthEvaluation(const DepthEvaluation& evaluation) {
+  std::ostringstream text;
+  text << "Depth maps against the ground truth (" << evaluation.images.size()
+       << " images; coverage = share of truth pixels with a depth, within = "
+          "share of covered pixels)\n";
+  text << std::left << std::setw(14) << "type" << std::right << std::setw(10)
+       << "coverage";
+  for (const double threshold : evaluation.thresholds_m) {
+    std::ostringstream header;
+    header << "<" << std::setprecision(6) << threshold * 100.0 << "cm";
+    text << std::setw(10) << header.str();
+  }
+  text << std::setw(12) << "median_cm" << std::setw(10) << "mean_cm"
+       << std::setw(14) << "no_truth_px" << "\n";
+  for (size_t t = 0; t < evaluation.map_types.size(); ++t) {
+    const DepthStats& stats = evaluation.overall[t];
+    text << std::left << std::setw(14) << evaluation.map_types[t]
+         << std::right << std::setw(10) << Percent(stats.coverage);
+    for (const double share : stats.within) {
+      text << std::setw(10) << Percent(share);
+    }
+    text << std::fixed << std::setprecision(2) << std::setw(12)
+         << stats.median_abs_error_m * 100.0 << std::setw(10)
+         << stats.mean_abs_error_m * 100.0 << std::setw(14)
+         << stats.num_without_truth << "\n";
+    text.unsetf(std::ios::fixed);
+  }
+  return text.str();
+}
+
+void WriteDepthEvaluationJson(const std::string& path,
+                              const DepthEvaluation& evaluation) {
+  WriteFileAtomically(
+      path,
+      [&evaluation](std::ostream& stream) {
+        JsonWriter json(&stream);
+        json.BeginObject();
+        json.Field("evaluator", "depth_maps");
+        json.Key("thresholds_m");
+        json.Array(evaluation.thresholds_m);
+        json.Field("num_images",
+                   static_cast<uint64_t>(evaluation.images.size()));
+        json.Field("num_images_without_truth",
+                   static_cast<uint64_t>(evaluation.num_images_without_truth));
+        json.Key("overall");
+        json.BeginObject();
+        for (size_t t = 0; t < evaluation.map_types.size(); ++t) {
+          json.Key(evaluation.map_types[t]);
+          WriteStats(&json, evaluation.overall[t]);
+        }
+        json.EndObject();
+        json.Key("images");
+        json.BeginArray();
+        for (const DepthImageEvaluation& image : evaluation.images) {
+          json.BeginObject();
+          json.Field("name", image.image_name);
+          for (size_t t = 0; t < evaluation.map_types.size(); ++t) {
+            if (image.stats[t].num_pixels == 0) continue;
+            json.Key(evaluation.map_types[t]);
+            WriteStats(&json, image.stats[t]);
+          }
+          json.EndObject();
+        }
+        json.EndArray();
+        json.EndObject();
+      },
+      /*binary=*/false);
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,136 @@
+// Accuracy and completeness of our MVS depth maps against the ground-truth
+// depth maps of a synthesized recording (ground_truth/depth_maps/<frame>.bin).
+//
+// The two maps live on different cameras: ours on the undistorted PINHOLE
+// camera of the dense workspace (dense/sparse), possibly at a reduced
+// resolution; the truth on the recording's own (possibly distorted) camera
+// of calibration.yaml. Both share the camera frame (undistortion keeps it),
+// so every pixel of our map is compared along its own ray:
+//   ray     = K_map^-1 [col, row, 1]            (MVS convention, no +0.5)
+//   (x, y)  = ImgFromCam_truth(ray)             truth pixel (col = x, row = y),
+//             the truth maps being written with the same convention;
+//   truth   = bilinear z-depth at (x, y) when the 4 neighbours are valid and
+//             agree within max_bilinear_spread (relative), else the nearest
+//             pixel's (a depth edge is never blended across);
+//   error   = |ours - truth| (camera-frame z, metres).
+// Our depth is computed with our refined poses, so pose errors are part of
+// the error, as they are part of what the reconstruction delivers.
+//
+// Figures per map type (photometric, geometric), per image and overall:
+//   coverage   = covered / truth-valid pixels (pixels of our map whose ray
+//                meets the scene in the truth, and of those the ones where
+//                our map has a depth);
+//   within(t)  = share of covered pixels with error < t;
+//   median / mean absolute error over covered pixels;
+//   num_without_truth = pixels where we have a depth and the truth sees
+//                nothing (sky, beyond the scene): invented depth.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "colmap_ext/mvs/dense_maps.h"
+#include "colmap_ext/scene/camera.h"
+
+namespace colmap_lidar {
+
+struct DepthEvaluationOptions {
+  // Error thresholds t in metres; positive and strictly increasing. JSON
+  // keys are within_<t in cm>cm (within_2cm, within_5cm, ...).
+  std::vector<double> thresholds_m = {0.02, 0.05, 0.1};
+  // Bilinear interpolation of the truth only where the 4 neighbours are
+  // valid and (max - min) <= max_bilinear_spread * min; else the nearest
+  // pixel. 5 % keeps grazing ground (about 3 % per pixel at 20 m for a
+  // 424 px focal length at 1.5 m height) and rejects depth edges. 0 always
+  // takes the nearest pixel. >= 0.
+  double max_bilinear_spread = 0.05;
+  // Map types to evaluate: "photometric" and/or "geometric"; a type whose
+  // maps are missing for every image is skipped with a warning.
+  std::vector<std::string> map_types = {"photometric", "geometric"};
+  // Threads over the images; <= 0: all cores.
+  int num_threads = -1;
+
+  bool Check() const;
+};
+
+// Raw per-pixel outcome of one map (mergeable into an overall figure).
+struct DepthErrors {
+  size_t num_pixels = 0;
+  size_t num_truth_valid = 0;
+  size_t num_covered = 0;
+  size_t num_without_truth = 0;
+  // |ours - truth| of the covered pixels, metres.
+  std::vector<float> abs_errors_m;
+
+  void Append(const DepthErrors& other);
+};
+
+struct DepthStats {
+  size_t num_pixels = 0;
+  size_t num_truth_valid = 0;
+  size_t num_covered = 0;
+  size_t num_without_truth = 0;
+  double coverage = 0.0;
+  std::vector<double> thresholds_m;
+  // Share of covered pixels with error < thresholds_m[i].
+  std::vector<double> within;
+  double median_abs_error_m = 0.0;
+  double mean_abs_error_m = 0.0;
+};
+
+DepthStats ComputeDepthStats(const DepthErrors& errors,
+                             const std::vector<double>& thresholds_m);
+
+// Compares `estimate` (K_estimate at the estimate's resolution, MVS pixel
+// convention) with `truth` taken by `truth_camera` (its full resolution;
+// throws colmap_lidar::Error when the truth map's size differs from the
+// camera's). Invalid estimate pixels are those with depth <= 0 or not
+// finite; invalid truth pixels are those with depth <= 0.
+DepthErrors CompareDepthMaps(const DepthMap& estimate,
+                             const Eigen::Matrix3d& K_estimate,
+                             const DepthMap& truth, const Camera& truth_camera,
+                             const DepthEvaluationOptions& options);
+
+struct DepthImageEvaluation {
+  std::string image_name;
+  // Parallel to DepthEvaluation::map_types; num_pixels = 0 when that map
+  // is missing for this image.
+  std::vector<DepthStats> stats;
+};
+
+struct DepthEvaluation {
+  std::vector<std::string> map_types;
+  std::vector<double> thresholds_m;
+  std::vector<DepthImageEvaluation> images;
+  // Over all pixels of all images, parallel to map_types.
+  std::vector<DepthStats> overall;
+  // Images of the workspace without a truth map (skipped).
+  size_t num_images_without_truth = 0;
+};
+
+// Evaluates every image of a dense workspace (`dense_path`: images/,
+// sparse/, stereo/depth_maps/) against <dataset_path>/ground_truth/
+// depth_maps/<frame>.bin, frame = the image name's file stem, with the
+// camera of <dataset_path>/calibration.yaml. Throws naming the file when
+// the calibration, the model or a map is unreadable, when no image has both
+// a truth map and one of our maps, or on invalid options.
+DepthEvaluation EvaluateDepthMaps(const std::string& dense_path,
+                                  const std::string& dataset_path,
+                                  const DepthEvaluationOptions& options);
+
+// "within_5cm" for 0.05.
+std::string DepthThresholdKey(double threshold_m);
+// The overall figures of one type, e.g. "geometric: 97.9 % within 5 cm,
+// coverage 88.1 %, median 0.8 cm"; empty when the type was not evaluated.
+std::string DepthSummary(const DepthEvaluation& evaluation,
+                         const std::string& map_type);
+std::string FormatDepthEvaluation(const DepthEvaluation& evaluation);
+// {"evaluator": "depth_maps", "thresholds_m": [...], "overall":
+//  {"<type>": {coverage, within_2cm, ..., median_abs_error_m, ...}},
+//  "images": [{"name": ..., "<type>": {...}}, ...]}.
+void WriteDepthEvaluationJson(const std::string& path,
+                              const DepthEvaluation& evaluation);
+
+}  // namespace colmap_lidar

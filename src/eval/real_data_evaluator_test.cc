@@ -1,0 +1,212 @@
+#include "src/eval/real_data_evaluator.h"
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "colmap_ext/util/logging.h"
+#include "src/lidar/lidar_test_scene.h"
+
+namespace colmap_lidar {
+namespace {
+
+// A scan of the street scene (fresh samples per scan, as a real sensor
+// never hits one point twice) seen from `world_from_lidar`, with range
+// noise, up to 30 m.
+LidarScan MakeScan(const Rigid3d& world_from_lidar, double noise_m,
+                   unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_m);
+  const Rigid3d lidar_from_world = world_from_lidar.Inverse();
+  LidarScan scan;
+  for (const Eigen::Vector3d& point : SampleStreetScene(seed, 10.0)) {
+    const Eigen::Vector3d p = lidar_from_world * point;
+    if (p.norm() < 30.0) {
+      scan.points.push_back((p + noise(rng) * p.normalized()).cast<float>());
+    }
+  }
+  return scan;
+}
+
+// Frames driving along x with a slight turn.
+std::vector<Rigid3d> TruePoses(int num_frames) {
+  std::vector<Rigid3d> poses;
+  for (int k = 0; k < num_frames; ++k) {
+    poses.push_back(PoseFromYawRoll(3.0 * k, 0.0, {1.2 * k, 0.1 * k, 0.0}));
+  }
+  return poses;
+}
+
+struct Recording {
+  std::vector<LidarScan> scans;
+  std::vector<RealDataFrame> frames;
+};
+
+// Refined poses = the truth; priors = the truth with 0.3 m / 3 deg errors.
+Recording MakeRecording(int num_frames) {
+  Recording recording;
+  const std::vector<Rigid3d> truth = TruePoses(num_frames);
+  for (size_t k = 0; k < truth.size(); ++k) {
+    recording.scans.push_back(MakeScan(truth[k], 0.01, 100 + k));
+  }
+  for (size_t k = 0; k < truth.size(); ++k) {
+    RealDataFrame frame;
+    frame.name = "frame" + std::to_string(k);
+    frame.scan = &recording.scans[k];
+    frame.refined_world_from_lidar = truth[k];
+    frame.has_prior = true;
+    const double sign = (k % 2 == 0) ? 1.0 : -1.0;
+    frame.prior_world_from_lidar =
+        truth[k] * PoseFromYawRoll(3.0 * sign, 0.0, {0.2 * sign, 0.2, 0.1});
+    recording.frames.push_back(frame);
+  }
+  return recording;
+}
+
+RealDataEvaluationOptions TestOptions() {
+  RealDataEvaluationOptions options;
+  options.num_threads = 2;
+  options.crispness_max_queries_per_scan = 3000;
+  return options;
+}
+
+TEST(RealDataEvaluator, CrispWithTruePosesAndBlurredByAMisposedScan) {
+  const Recording recording = MakeRecording(5);
+  const RealDataEvaluationOptions options = TestOptions();
+  const double voxel = CrispnessVoxelSize(recording.scans[0], options);
+  EXPECT_GE(voxel, 0.05);
+  EXPECT_LE(voxel, 0.3);
+  std::vector<std::vector<Eigen::Vector3d>> thinned;
+  std::vector<Rigid3d> poses;
+  for (const RealDataFrame& frame : recording.frames) {
+    thinned.push_back(ThinScan(*frame.scan, voxel, options));
+    poses.push_back(frame.refined_world_from_lidar);
+  }
+  const double radius = options.crispness_radius_voxels * voxel;
+  const CrispnessStats crisp =
+      EvaluateCrispness(thinned, poses, radius, options);
+  EXPECT_GT(crisp.coverage, 0.5);
+  EXPECT_LT(crisp.median_m, 0.02);
+  EXPECT_LT(crisp.p90_m, 0.05);
+
+  // Frame 2 off by 0.15 m and 1.5 deg.
+  poses[2] = poses[2] * PoseFromYawRoll(1.5, 0.0, {0.1, 0.1, 0.1});
+  const CrispnessStats blurred =
+      EvaluateCrispness(thinned, poses, radius, options);
+  ASSERT_EQ(blurred.frame_median_m.size(), 5u);
+  EXPECT_GT(blurred.frame_median_m[2], 3.0 * crisp.frame_median_m[2]);
+  EXPECT_GT(blurred.frame_median_m[2], 0.05);
+  EXPECT_GT(blurred.median_m, crisp.median_m);
+  EXPECT_GT(blurred.p90_m, 1.5 * crisp.p90_m);
+
+  EXPECT_THROW(EvaluateCrispness({thinned[0]}, {poses[0]}, radius, options),
+               Error);
+}
+
+TEST(RealDataEvaluator, TrajectoryAgreesWithOdometryUnlessStretched) {
+  Recording recording = MakeRecording(4);
+  const RealDataEvaluationOptions options = TestOptions();
+  const TrajectoryComparison good =
+      CompareTrajectoryWithOdometry(recording.frames, options);
+  ASSERT_EQ(good.num_steps, 3u);
+  EXPECT_NEAR(good.odometry_length_m, good.refined_length_m, 0.03);
+  EXPECT_NEAR(good.length_ratio, 1.0, 0.01);
+  EXPECT_LT(good.max_step_difference_m, 0.02);
+  EXPECT_EQ(good.num_failed_registrations, 0u);
+  EXPECT_GT(good.prior_length_m, 0.0);
+
+  // The refined trajectory 30 % too long (a wrong scale), one step more so.
+  for (RealDataFrame& frame : recording.frames) {
+    frame.refined_world_from_lidar.translation *= 1.3;
+  }
+  recording.frames[3].refined_world_from_lidar.translation.x() += 0.5;
+  const TrajectoryComparison stretched =
+      CompareTrajectoryWithOdometry(recording.frames, options);
+  EXPECT_GT(stretched.length_ratio, 1.3);
+  EXPECT_GT(stretched.max_step_difference_m, 0.5);
+  EXPECT_EQ(stretched.max_step_difference_frame, "frame2");
+  EXPECT_NEAR(stretched.odometry_length_m, good.odometry_length_m, 1e-6);
+}
+
+// A 10 x 10 m square at z = 0; LIDAR points on its left half and 0.3 m
+// above its right half.
+TEST(RealDataEvaluator, MeshVsLidarShares) {
+  const std::vector<Eigen::Vector3d> vertices = {
+      {0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+  const std::vector<Eigen::Vector3i> triangles = {{0, 1, 2}, {0, 2, 3}};
+  std::vector<Eigen::Vector3d> lidar;
+  for (double x = 0.025; x < 10.0; x += 0.05) {
+    for (double y = 0.025; y < 10.0; y += 0.05) {
+      lidar.emplace_back(x, y, x < 5.0 ? 0.0 : 0.3);
+    }
+  }
+  const RealDataEvaluationOptions options = TestOptions();
+  const MeshVsLidar result =
+      EvaluateMeshVsLidar(vertices, triangles, lidar, options);
+  ASSERT_EQ(result.thresholds_m.size(), 2u);
+  EXPECT_NEAR(result.mesh_area_m2, 100.0, 1e-9);
+  EXPECT_NEAR(result.num_mesh_samples, 10000u, 1u);
+  EXPECT_NEAR(result.lidar_within[0], 0.5, 0.01);   // 0.1 m
+  EXPECT_NEAR(result.lidar_within[1], 1.0, 1e-9);   // 0.5 m
+  EXPECT_NEAR(result.mesh_within[0], 0.5, 0.03);
+  EXPECT_NEAR(result.mesh_within[1], 1.0, 1e-9);
+  EXPECT_THROW(EvaluateMeshVsLidar(vertices, {}, lidar, options), Error);
+}
+
+TEST(RealDataEvaluator, WritesTheKeysTheMatrixTableReads) {
+  const Recording recording = MakeRecording(3);
+  RealDataEvaluation evaluation =
+      EvaluateRealDataFrames(recording.frames, TestOptions());
+  EXPECT_TRUE(evaluation.has_prior);
+  // Priors 0.2-0.3 m off, near the radius: fewer planes found (the median
+  // alone saturates, and the ground plane hides shifts along it).
+  EXPECT_LT(evaluation.prior_crispness.coverage,
+            evaluation.refined_crispness.coverage);
+  // The odometry chain stacks the scans as well as the true poses.
+  EXPECT_LT(evaluation.odometry_crispness.median_m,
+            1.2 * evaluation.refined_crispness.median_m);
+  evaluation.has_mesh = true;
+  evaluation.mesh_vs_lidar.thresholds_m = {0.1, 0.5};
+  evaluation.mesh_vs_lidar.lidar_within = {0.25, 0.5};
+  evaluation.mesh_vs_lidar.mesh_within = {0.75, 1.0};
+  const std::string path =
+      (std::filesystem::temp_directory_path() /
+       ("real_data_evaluator_test_" + std::to_string(::getpid()) + ".json"))
+          .string();
+  WriteRealDataJson(path, evaluation);
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  std::filesystem::remove(path);
+  for (const char* key :
+       {"\"crispness\"", "\"refined_median_m\"", "\"prior_median_m\"",
+        "\"refined_p90_m\"", "\"odometry_median_m\"", "\"trajectory\"", "\"odometry_length_m\"",
+        "\"refined_length_m\"", "\"length_ratio\"",
+        "\"max_step_difference_m\"", "\"mesh_vs_lidar\"",
+        "\"lidar_within_0.1m\": 0.25", "\"mesh_within_0.1m\": 0.75",
+        "\"lidar_within_0.5m\"", "\"mesh_within_0.5m\""}) {
+    EXPECT_NE(text.str().find(key), std::string::npos) << key;
+  }
+  EXPECT_FALSE(FormatRealDataEvaluation(evaluation).empty());
+}
+
+TEST(RealDataEvaluator, RejectsBadOptions) {
+  RealDataEvaluationOptions options;
+  EXPECT_TRUE(options.Check());
+  options.crispness_radius_voxels = 1.0;
+  EXPECT_FALSE(options.Check());
+  options = RealDataEvaluationOptions();
+  options.mesh_thresholds_m = {0.5, 0.1};
+  EXPECT_FALSE(options.Check());
+  options = RealDataEvaluationOptions();
+  options.registration.max_range_m = -1.0;
+  EXPECT_FALSE(options.Check());
+}
+
+}  // namespace
+}  // namespace colmap_lidar
