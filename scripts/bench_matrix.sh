@@ -24,7 +24,7 @@
 #
 # Usage: bash scripts/bench_matrix.sh [--work DIR] [--cells a,b,...]
 #          [--cells_file FILE] [--runs N] [--num_frames N] [--kitti DIR]
-#          [--no-write]
+#          [--run_options "OPTIONS"] [--no-write]
 #   work        default bench_work/matrix
 #   cells       default: every cell of the cells file
 #   runs        runs of the same commit per cell (default 1; 3 for headline
@@ -32,6 +32,8 @@
 #   num_frames  frames per synthetic cell (default 30)
 #   kitti       a KITTI raw recording (default: none, the kitti cell is
 #               skipped; the tests use the sample in ../shared/data)
+#   run_options options given to every automatic_reconstructor run (an A/B
+#               of one option against the defaults, in its own --work)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -42,6 +44,7 @@ CELLS_FILE="${ROOT}/scripts/matrix_cells.txt"
 RUNS=1
 NUM_FRAMES=30
 KITTI=""
+EXTRA_RUN_OPTIONS=""
 WRITE=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -51,8 +54,9 @@ while [[ $# -gt 0 ]]; do
     --runs) RUNS=$2; shift 2 ;;
     --num_frames) NUM_FRAMES=$2; shift 2 ;;
     --kitti) KITTI=$2; shift 2 ;;
+    --run_options) EXTRA_RUN_OPTIONS=$2; shift 2 ;;
     --no-write) WRITE=0; shift ;;
-    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,35p' "$0"; exit 0 ;;
     *) echo "bench_matrix: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -175,7 +179,8 @@ EOF
       --dataset_path "${dataset}" --AutomaticReconstruction.stages mesh:evaluate \
       --AutomaticReconstruction.mesh_with_lines 0 \
       --AutomaticReconstruction.evaluate_lidar_baseline 0 \
-      --AutomaticReconstruction.num_threads "${THREADS}" > "${extra}/nolines.log" 2>&1
+      --AutomaticReconstruction.num_threads "${THREADS}" ${EXTRA_RUN_OPTIONS} \
+      > "${extra}/nolines.log" 2>&1
     mkdir -p "${extra}/nolines_eval"
     cp "${copy}"/eval/mesh_ours*.json "${extra}/nolines_eval/" 2>/dev/null || true
     cp "${copy}/pipeline/mesh.done" "${extra}/nolines_eval/mesh.done" 2>/dev/null || true
@@ -225,8 +230,8 @@ for cell in "${SELECTED[@]}"; do
       log "${cell}: run ${r}/${RUNS}: automatic_reconstructor"
       # The real recording's line in the cells file holds options of the
       # pipeline itself (synthetic cells: of synthesize).
-      RUN_OPTIONS=""
-      [[ "${cell}" == kitti ]] && RUN_OPTIONS="${CELL_OPTIONS[$cell]}"
+      RUN_OPTIONS="${EXTRA_RUN_OPTIONS}"
+      [[ "${cell}" == kitti ]] && RUN_OPTIONS+=" ${CELL_OPTIONS[$cell]}"
       # shellcheck disable=SC2086
       if ! "${BIN}" automatic_reconstructor --workspace_path "${RUN_DIR}/ws" \
           --dataset_path "${DATASET}" \

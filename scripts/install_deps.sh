@@ -9,7 +9,7 @@ packages=(
   libeigen3-dev libceres-dev libgoogle-glog-dev libgflags-dev
   libopencv-dev libopencv-contrib-dev
   libpcl-dev libcgal-dev libflann-dev libembree-dev libtbb-dev
-  libsqlite3-dev libyaml-cpp-dev
+  libsqlite3-dev libyaml-cpp-dev nlohmann-json3-dev
   libboost-program-options-dev libboost-graph-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )

@@ -55,6 +55,10 @@ void EnsureTables(const Database& database) {
 
 LineMatchesBlob SwapColumns(const LineMatchesBlob& matches) {
   LineMatchesBlob swapped(matches.rows(), 2);
+  // A column block of an empty matrix offsets a null pointer (undefined).
+  if (matches.rows() == 0) {
+    return swapped;
+  }
   swapped.col(0) = matches.col(1);
   swapped.col(1) = matches.col(0);
   return swapped;
@@ -70,6 +74,13 @@ LineMatchesBlob ReadMatchesRow(const SqliteStatement& select,
   THROW_CHECK(rows >= 0 && (cols == 2 || rows == 0),
               what << " in " << db_path << " has shape " << rows << " x "
                    << cols << ", expected N x 2");
+  // Compare with the blob before allocating: a corrupt row count must not
+  // size the matrix (ColumnBlobArray below repeats the exact check).
+  constexpr size_t kRowBytes = 2 * sizeof(uint32_t);
+  THROW_CHECK(static_cast<uint64_t>(rows) <= select.ColumnBytes(3) / kRowBytes,
+              what << " in " << db_path << " claims " << rows
+                   << " rows, its blob has " << select.ColumnBytes(3)
+                   << " bytes");
   LineMatchesBlob matches(rows, 2);
   select.ColumnBlobArray(3, static_cast<size_t>(rows) * 2, matches.data(),
                          what);

@@ -1,7 +1,8 @@
 // A thin RAII wrapper around one prepared SQLite statement. It is the only
-// place outside database.cc that touches the SQLite C API, so that modules
-// adding their own ext_* tables (see ext_schema.h) write their row IO against
-// this class through Database::Prepare() instead of raw sqlite3 calls.
+// place outside Database (database.cc, database_*.cc) that touches the
+// SQLite C API, so that modules adding their own ext_* tables (see
+// ext_schema.h) write their row IO against this class through
+// Database::Prepare() instead of raw sqlite3 calls.
 //
 // Every failure throws colmap_lidar::Error naming the database path, the SQL
 // and SQLite's message.

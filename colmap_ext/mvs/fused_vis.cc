@@ -36,7 +36,10 @@ FusedVisibility ReadFusedVis(const std::string& path) {
     THROW_CHECK(count <= (content.size() - pos) / 4,
                 "Truncated visibility file " << path << " at point " << i);
     visibility[i].resize(count);
-    std::memcpy(visibility[i].data(), content.data() + pos, 4 * count);
+    // An empty vector's data() may be null, which memcpy must not get.
+    if (count > 0) {
+      std::memcpy(visibility[i].data(), content.data() + pos, 4 * count);
+    }
     pos += 4 * count;
   }
   THROW_CHECK(pos == content.size(), "Visibility file "

@@ -161,7 +161,9 @@ void StagedFiles::Copy(const std::string& source_path,
   fs::copy_file(source_path, temp_path, fs::copy_options::overwrite_existing,
                 ec);
   if (ec) {
-    fs::remove(temp_path, ec);
+    // Its own error code: the copy's error is the one to report.
+    std::error_code remove_ec;
+    fs::remove(temp_path, remove_ec);
     THROW_ERROR("Cannot copy " << source_path << " to " << target_path << ": "
                                << ec.message());
   }

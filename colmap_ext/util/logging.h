@@ -1,6 +1,6 @@
 // Error policy (see docs/house-style): programmer errors and I/O failures
 // throw colmap_lidar::Error with a message that names the file or option;
-// the command boundary (colmap_ext/exe) turns it into a message and a
+// the command boundary (src/exe) turns it into a message and a
 // non-zero exit. Expected empty results are values plus a LOG(WARNING).
 #pragma once
 

@@ -338,9 +338,12 @@ template <typename Reader>
 uint64_t ReadListCount(Reader* reader, const PlyProperty& property,
                        const std::string& path) {
   const double count = reader->Read(property.count_type);
-  THROW_CHECK(count >= 0 && count <= 1e9,
+  // Every item takes at least one byte (binary) or character (ASCII): a
+  // larger count is a corrupt file, and must not size an allocation.
+  THROW_CHECK(count >= 0 && count <= static_cast<double>(reader->Remaining()),
               "Bad list count " << count << " for property '" << property.name
-                                << "' in " << path);
+                                << "' in " << path << " ("
+                                << reader->Remaining() << " bytes left)");
   return static_cast<uint64_t>(count);
 }
 
@@ -350,8 +353,12 @@ void ReadBody(const PlyHeader& header, Reader* reader, const std::string& path,
   for (const PlyElement& element : header.elements) {
     // Guard allocations against absurd counts in a corrupt header: every
     // element instance needs at least one byte of body (or one property).
-    const bool has_properties = !element.properties.empty();
-    THROW_CHECK(!has_properties || element.count <= reader->Remaining(),
+    // An element without properties has no bytes to read, whatever its
+    // count (looping over a count of 10^19 would hang).
+    if (element.properties.empty()) {
+      continue;
+    }
+    THROW_CHECK(element.count <= reader->Remaining(),
                 "Truncated PLY body in " << path << ": element '"
                                          << element.name << "' declares "
                                          << element.count << " entries");

@@ -92,10 +92,15 @@ RigCalibration ReadCalibration(const std::string& path) {
   const double height =
       ReadFiniteDouble(RequireKey(camera, "height", path, "camera.height"),
                        path, "camera.height");
+  // The upper bound keeps the conversion to an integer defined (a width of
+  // 1e30 would overflow it) and is far above any real camera.
+  constexpr double kMaxImageSize = 1 << 20;
   THROW_CHECK(width >= 1 && height >= 1 && width == std::floor(width) &&
-                  height == std::floor(height),
+                  height == std::floor(height) && width <= kMaxImageSize &&
+                  height <= kMaxImageSize,
               path << ": camera.width and camera.height must be positive "
-                      "integers");
+                      "integers up to "
+                   << kMaxImageSize);
   const YAML::Node params_node =
       RequireKey(camera, "params", path, "camera.params");
   THROW_CHECK(params_node.IsSequence(),

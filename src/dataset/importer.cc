@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -19,8 +21,11 @@ namespace fs = std::filesystem;
 namespace {
 
 // Image and scan checks that stock colmap would only report much later (or
-// abort on): readable image of the calibrated size, non-empty finite scan.
-uint64_t ValidateFrame(const RecordingFrame& frame, const Camera& camera) {
+// abort on): readable image of the calibrated size, non-empty finite scan
+// at plausible ranges with points in front of the camera.
+uint64_t ValidateFrame(const RecordingFrame& frame,
+                       const RigCalibration& calibration) {
+  const Camera& camera = calibration.camera;
   const cv::Mat image = cv::imread(frame.image_path, cv::IMREAD_UNCHANGED);
   THROW_CHECK(!image.empty(), frame.image_path << ": cannot read the image");
   THROW_CHECK(static_cast<uint64_t>(image.cols) == camera.width &&
@@ -28,7 +33,38 @@ uint64_t ValidateFrame(const RecordingFrame& frame, const Camera& camera) {
               frame.image_path << ": image is " << image.cols << "x"
                                << image.rows << " but the camera is "
                                << camera.width << "x" << camera.height);
-  return ReadLidarScan(frame.scan_path).size();
+  const LidarScan scan = ReadLidarScan(frame.scan_path);
+
+  // A scan read with the wrong byte order (a big-endian .bin, a PLY whose
+  // header declares the other endianness) is finite but meaningless: its
+  // coordinates spread over dozens of decades. Metric LIDAR ranges do not.
+  constexpr double kMinPlausibleRange = 1e-3;  // 1 mm.
+  constexpr double kMaxPlausibleRange = 1e5;   // 100 km.
+  size_t num_plausible = 0;
+  size_t num_in_front = 0;
+  for (const Eigen::Vector3f& point : scan.points) {
+    const double range = point.cast<double>().norm();
+    if (range >= kMinPlausibleRange && range <= kMaxPlausibleRange) {
+      ++num_plausible;
+    }
+    if ((calibration.cam_from_lidar * point.cast<double>()).z() > 0.0) {
+      ++num_in_front;
+    }
+  }
+  THROW_CHECK(2 * num_plausible >= scan.size(),
+              frame.scan_path << ": only " << num_plausible << " of its "
+                              << scan.size()
+                              << " points lie between 1 mm and 100 km from "
+                                 "the sensor; wrong byte order (endianness) "
+                                 "or unit?");
+  // Every later stage projects the scan into the image; a scan with nothing
+  // in front of the camera points at a wrong cam_from_lidar or a wrong file.
+  THROW_CHECK(num_in_front > 0,
+              frame.scan_path << ": none of its " << scan.size()
+                              << " points is in front of the camera (z > 0 "
+                                 "after cam_from_lidar); check the "
+                                 "calibration's cam_from_lidar");
+  return scan.size();
 }
 
 bool SameCamera(const Camera& a, const Camera& b) {
@@ -88,6 +124,34 @@ class CreatedDirGuard {
   bool released_ = false;
 };
 
+// Removes the files and folders of an existing workspace that this import
+// created (database, images/, lidar/, sparse/) if it fails; declared before
+// the Database so that the database is closed first.
+class CreatedPathsGuard {
+ public:
+  explicit CreatedPathsGuard(const std::vector<std::string>& paths) {
+    for (const std::string& path : paths) {
+      if (!fs::exists(path)) {
+        created_.push_back(path);
+      }
+    }
+  }
+  ~CreatedPathsGuard() {
+    if (released_) {
+      return;
+    }
+    for (const std::string& path : created_) {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  }
+  void Release() { released_ = true; }
+
+ private:
+  std::vector<std::string> created_;
+  bool released_ = false;
+};
+
 }  // namespace
 
 bool ImporterOptions::Check() const {
@@ -125,7 +189,7 @@ ImportSummary ImportDataset(const std::string& dataset_path,
 
   std::vector<uint64_t> num_points(recording.frames.size());
   for (size_t i = 0; i < recording.frames.size(); ++i) {
-    num_points[i] = ValidateFrame(recording.frames[i], camera);
+    num_points[i] = ValidateFrame(recording.frames[i], recording.calibration);
     summary.num_lidar_points += num_points[i];
   }
   LOG(INFO) << "Validated " << recording.frames.size() << " images and scans ("
@@ -138,6 +202,10 @@ ImportSummary ImportDataset(const std::string& dataset_path,
   const std::string workspace_image_dir = JoinPaths(workspace_path, "images");
   const std::string workspace_scan_dir = JoinPaths(workspace_path, "lidar");
 
+  CreatedPathsGuard created_paths_guard(
+      {summary.database_path, summary.database_path + "-wal",
+       summary.database_path + "-shm", workspace_image_dir,
+       workspace_scan_dir, JoinPaths(workspace_path, "sparse")});
   Database database(summary.database_path);
   std::map<std::string, DatabaseImage> images_by_name;
   for (const DatabaseImage& image : database.ReadAllImages()) {
@@ -192,16 +260,24 @@ ImportSummary ImportDataset(const std::string& dataset_path,
                            << " refers to camera " << image.camera_id
                            << ", which the database lacks");
       const Camera& current = current_it->second;
+      // The scan is projected with this image's camera and cam_from_lidar:
+      // an image of another size than the calibration (a resized copy, another
+      // camera) cannot take the LIDAR, whatever its intrinsics.
+      const std::string workspace_image =
+          JoinPaths(workspace_image_dir, image.name);
+      THROW_CHECK(current.width == camera.width &&
+                      current.height == camera.height,
+                  (ExistsFile(workspace_image) ? workspace_image
+                                               : "Image " + image.name)
+                      << ": the workspace image (camera " << current.camera_id
+                      << " of " << summary.database_path << ") is "
+                      << current.width << "x" << current.height
+                      << " pixels but the recording's calibration is for "
+                      << camera.width << "x" << camera.height
+                      << "; import into a workspace of the recording's images");
       if (options.calibrate_matched_images && !SameCamera(current, camera)) {
-        if (current.width == camera.width && current.height == camera.height) {
-          image.camera_id = recording_camera_id();
-          ++summary.num_recalibrated_images;
-        } else {
-          LOG(WARNING) << "Image " << image.name << " keeps its camera "
-                       << current.camera_id << ": " << current.width << "x"
-                       << current.height << " pixels, the calibration is for "
-                       << camera.width << "x" << camera.height;
-        }
+        image.camera_id = recording_camera_id();
+        ++summary.num_recalibrated_images;
       }
     } else {
       image.camera_id = recording_camera_id();
@@ -279,6 +355,7 @@ ImportSummary ImportDataset(const std::string& dataset_path,
     staged_model->Commit();
   }
   workspace_guard.Release();
+  created_paths_guard.Release();
 
   summary.image_path = (options.copy_images || existing_workspace)
                            ? workspace_image_dir

@@ -44,9 +44,10 @@ struct ImporterOptions {
   // before; otherwise importing a frame twice is an error.
   bool overwrite = false;
   // Existing images matched to frames take the recording's calibrated
-  // camera when theirs differs but has the same image size (stock
-  // feature_extractor guesses a SIMPLE_RADIAL camera from the image size;
-  // keypoints are pixel positions and stay valid). Off: they keep theirs.
+  // camera when theirs differs (stock feature_extractor guesses a
+  // SIMPLE_RADIAL camera from the image size; keypoints are pixel positions
+  // and stay valid). Off: they keep theirs. Either way a matched image whose
+  // size differs from the calibration is an error.
   bool calibrate_matched_images = true;
 
   bool Check() const;

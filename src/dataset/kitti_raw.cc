@@ -1,6 +1,7 @@
 #include "src/dataset/kitti_raw.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -113,6 +114,18 @@ Recording LoadKittiRawRecording(const std::string& path, int camera_index) {
   THROW_CHECK(K(0, 0) > 0 && K(1, 1) > 0,
               cam_calib_path << ": P_rect_" << index
                              << " has non-positive focal lengths");
+
+  // S_rect is the image size in pixels; the upper bound keeps the conversion
+  // to an integer defined for a corrupt file.
+  constexpr double kMaxImageSize = 1 << 20;
+  for (const double extent : size) {
+    THROW_CHECK(extent >= 1 && extent <= kMaxImageSize &&
+                    extent == std::floor(extent),
+                cam_calib_path << ": S_rect_" << index
+                               << " must be two positive integers (pixels), "
+                                  "got "
+                               << size[0] << " " << size[1]);
+  }
 
   Recording recording;
   recording.path = path;

@@ -112,8 +112,12 @@ std::map<std::string, std::string> ListFramesInDir(
     const std::string& dir, const std::vector<std::string>& extensions,
     const std::string& what) {
   CheckDirExists(dir, what);
+  // Sorted, so that an error about two files of one frame names them in the
+  // same order on every file system.
+  std::vector<fs::directory_entry> entries(fs::directory_iterator(dir), {});
+  std::sort(entries.begin(), entries.end());
   std::map<std::string, std::string> files;
-  for (const auto& entry : fs::directory_iterator(dir)) {
+  for (const fs::directory_entry& entry : entries) {
     if (!entry.is_regular_file()) {
       continue;
     }

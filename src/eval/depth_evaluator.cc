@@ -9,11 +9,11 @@
 
 #include "colmap_ext/mvs/workspace.h"
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
 #include "src/dataset/calibration.h"
 #include "src/eval/eval_stats.h"
-#include "src/eval/json_writer.h"
 
 namespace colmap_lidar {
 namespace {
@@ -71,20 +71,19 @@ std::string FrameOfImage(const std::string& image_name) {
   return std::filesystem::path(image_name).stem().string();
 }
 
-void WriteStats(JsonWriter* json, const DepthStats& stats) {
-  json->BeginObject();
-  json->Field("coverage", stats.coverage);
+Json StatsToJson(const DepthStats& stats) {
+  Json json;
+  json["coverage"] = stats.coverage;
   for (size_t i = 0; i < stats.thresholds_m.size(); ++i) {
-    json->Field(DepthThresholdKey(stats.thresholds_m[i]), stats.within[i]);
+    json[DepthThresholdKey(stats.thresholds_m[i])] = stats.within[i];
   }
-  json->Field("median_abs_error_m", stats.median_abs_error_m);
-  json->Field("mean_abs_error_m", stats.mean_abs_error_m);
-  json->Field("num_pixels", static_cast<uint64_t>(stats.num_pixels));
-  json->Field("num_truth_valid", static_cast<uint64_t>(stats.num_truth_valid));
-  json->Field("num_covered", static_cast<uint64_t>(stats.num_covered));
-  json->Field("num_without_truth",
-              static_cast<uint64_t>(stats.num_without_truth));
-  json->EndObject();
+  json["median_abs_error_m"] = stats.median_abs_error_m;
+  json["mean_abs_error_m"] = stats.mean_abs_error_m;
+  json["num_pixels"] = stats.num_pixels;
+  json["num_truth_valid"] = stats.num_truth_valid;
+  json["num_covered"] = stats.num_covered;
+  json["num_without_truth"] = stats.num_without_truth;
+  return json;
 }
 
 }  // namespace
@@ -360,41 +359,27 @@ std::string FormatDepthEvaluation(const DepthEvaluation& evaluation) {
 
 void WriteDepthEvaluationJson(const std::string& path,
                               const DepthEvaluation& evaluation) {
-  WriteFileAtomically(
-      path,
-      [&evaluation](std::ostream& stream) {
-        JsonWriter json(&stream);
-        json.BeginObject();
-        json.Field("evaluator", "depth_maps");
-        json.Key("thresholds_m");
-        json.Array(evaluation.thresholds_m);
-        json.Field("num_images",
-                   static_cast<uint64_t>(evaluation.images.size()));
-        json.Field("num_images_without_truth",
-                   static_cast<uint64_t>(evaluation.num_images_without_truth));
-        json.Key("overall");
-        json.BeginObject();
-        for (size_t t = 0; t < evaluation.map_types.size(); ++t) {
-          json.Key(evaluation.map_types[t]);
-          WriteStats(&json, evaluation.overall[t]);
-        }
-        json.EndObject();
-        json.Key("images");
-        json.BeginArray();
-        for (const DepthImageEvaluation& image : evaluation.images) {
-          json.BeginObject();
-          json.Field("name", image.image_name);
-          for (size_t t = 0; t < evaluation.map_types.size(); ++t) {
-            if (image.stats[t].num_pixels == 0) continue;
-            json.Key(evaluation.map_types[t]);
-            WriteStats(&json, image.stats[t]);
-          }
-          json.EndObject();
-        }
-        json.EndArray();
-        json.EndObject();
-      },
-      /*binary=*/false);
+  Json json;
+  json["evaluator"] = "depth_maps";
+  json["thresholds_m"] = evaluation.thresholds_m;
+  json["num_images"] = evaluation.images.size();
+  json["num_images_without_truth"] = evaluation.num_images_without_truth;
+  Json overall = Json::object();
+  for (size_t t = 0; t < evaluation.map_types.size(); ++t) {
+    overall[evaluation.map_types[t]] = StatsToJson(evaluation.overall[t]);
+  }
+  json["overall"] = std::move(overall);
+  Json images = Json::array();
+  for (const DepthImageEvaluation& image : evaluation.images) {
+    Json& image_json = images.emplace_back();
+    image_json["name"] = image.image_name;
+    for (size_t t = 0; t < evaluation.map_types.size(); ++t) {
+      if (image.stats[t].num_pixels == 0) continue;
+      image_json[evaluation.map_types[t]] = StatsToJson(image.stats[t]);
+    }
+  }
+  json["images"] = std::move(images);
+  WriteJsonFile(path, json);
 }
 
 }  // namespace colmap_lidar

@@ -8,6 +8,7 @@
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/mvs/workspace.h"
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/testing.h"
 #include "src/dataset/calibration.h"
 
@@ -240,17 +241,21 @@ TEST(DepthEvaluator, FilesAndJson) {
 
   const std::string json_path = JoinPaths(root, "depth_maps.json");
   WriteDepthEvaluationJson(json_path, evaluation);
-  std::ifstream stream(json_path);
-  std::stringstream text;
-  text << stream.rdbuf();
-  const std::string json = text.str();
-  const size_t overall = json.find("\"overall\"");
-  const size_t geometric = json.find("\"geometric\"", overall);
-  ASSERT_NE(overall, std::string::npos);
-  ASSERT_NE(geometric, std::string::npos);
-  EXPECT_NE(json.find("\"coverage\": 1", geometric), std::string::npos);
-  EXPECT_NE(json.find("\"within_5cm\": 1", geometric), std::string::npos);
-  EXPECT_NE(json.find("\"within_2cm\"", overall), std::string::npos);
+  const Json json = ReadJsonFile(json_path);
+  EXPECT_EQ(json.at("evaluator"), "depth_maps");
+  EXPECT_EQ(json.at("num_images"), 1);
+  EXPECT_EQ(json.at("num_images_without_truth"), 1);
+  const Json& geometric = json.at("overall").at("geometric");
+  EXPECT_EQ(geometric.at("coverage"), 1.0);
+  EXPECT_EQ(geometric.at("within_5cm"), 1.0);
+  const Json& photometric = json.at("overall").at("photometric");
+  EXPECT_TRUE(photometric.at("within_2cm").is_number_float());
+  EXPECT_EQ(photometric.at("within_5cm").get<double>(),
+            evaluation.overall[0].within[1]);
+  EXPECT_EQ(geometric.at("num_pixels"), evaluation.overall[1].num_pixels);
+  ASSERT_EQ(json.at("images").size(), 1u);
+  EXPECT_EQ(json.at("images").at(0).at("name"), "000007.png");
+  EXPECT_TRUE(json.at("images").at(0).contains("geometric"));
 
   // Missing truth folder and bad options are errors naming the problem.
   EXPECT_THROW(EvaluateDepthMaps(dense, root, options), Error);

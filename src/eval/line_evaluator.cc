@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "src/eval/eval_stats.h"
-#include "src/eval/json_writer.h"
 #include "src/eval/nearest_neighbor.h"
 
 namespace colmap_lidar {
@@ -202,36 +202,18 @@ std::string FormatLineEvaluation(const LineEvaluation& evaluation) {
 
 void WriteLineEvaluationJson(const std::string& path,
                              const LineEvaluation& evaluation) {
-  WriteFileAtomically(
-      path,
-      [&evaluation](std::ostream& stream) {
-        JsonWriter json(&stream);
-        json.BeginObject();
-        json.Field("evaluator", "line");
-        json.Field("num_estimated_segments",
-                   static_cast<uint64_t>(evaluation.num_estimated_segments));
-        json.Field(
-            "num_ground_truth_segments",
-            static_cast<uint64_t>(evaluation.num_ground_truth_segments));
-        json.Field("estimated_length_m", evaluation.estimated_length_m);
-        json.Field("ground_truth_length_m", evaluation.ground_truth_length_m);
-        json.Key("thresholds_m");
-        json.Array(evaluation.thresholds_m);
-        json.Key("length_precision");
-        json.Array(evaluation.length_precisions);
-        json.Key("length_recall");
-        json.Array(evaluation.length_recalls);
-        json.Key("num_inlier_segments");
-        json.BeginArray();
-        for (const size_t count : evaluation.num_inlier_segments) {
-          json.Value(static_cast<uint64_t>(count));
-        }
-        json.EndArray();
-        json.Key("inlier_segment_share");
-        json.Array(evaluation.inlier_segment_shares);
-        json.EndObject();
-      },
-      /*binary=*/false);
+  Json json;
+  json["evaluator"] = "line";
+  json["num_estimated_segments"] = evaluation.num_estimated_segments;
+  json["num_ground_truth_segments"] = evaluation.num_ground_truth_segments;
+  json["estimated_length_m"] = evaluation.estimated_length_m;
+  json["ground_truth_length_m"] = evaluation.ground_truth_length_m;
+  json["thresholds_m"] = evaluation.thresholds_m;
+  json["length_precision"] = evaluation.length_precisions;
+  json["length_recall"] = evaluation.length_recalls;
+  json["num_inlier_segments"] = evaluation.num_inlier_segments;
+  json["inlier_segment_share"] = evaluation.inlier_segment_shares;
+  WriteJsonFile(path, json);
 }
 
 }  // namespace colmap_lidar

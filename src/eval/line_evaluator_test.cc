@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/testing.h"
 #include "src/eval/nearest_neighbor.h"
@@ -125,12 +126,18 @@ TEST(LineEvaluator, JsonAndTable) {
       EvaluateLines(Edges(), Edges(), LineEvaluationOptions());
   const std::string path = JoinPaths(testing::CreateTestDir(), "lines.json");
   WriteLineEvaluationJson(path, evaluation);
-  const std::string json = ReadTextFile(path);
-  EXPECT_NE(json.find("\"length_recall\": [1, 1, 1, 1]"), std::string::npos)
-      << json;
-  EXPECT_NE(json.find("\"thresholds_m\": [0.01, 0.02, 0.05, 0.1]"),
-            std::string::npos)
-      << json;
+  const Json json = ReadJsonFile(path);
+  EXPECT_EQ(json.at("evaluator"), "line");
+  EXPECT_EQ(json.at("length_recall"), Json({1.0, 1.0, 1.0, 1.0}));
+  EXPECT_EQ(json.at("thresholds_m"), Json({0.01, 0.02, 0.05, 0.1}));
+  EXPECT_EQ(json.at("num_estimated_segments"), 3);
+  EXPECT_EQ(json.at("estimated_length_m").get<double>(),
+            evaluation.estimated_length_m);
+  EXPECT_EQ(json.at("num_inlier_segments"),
+            Json(evaluation.num_inlier_segments));
+  EXPECT_TRUE(json.at("num_inlier_segments").at(0).is_number_unsigned());
+  EXPECT_EQ(json.at("inlier_segment_share"),
+            Json(evaluation.inlier_segment_shares));
   const std::string table = FormatLineEvaluation(evaluation);
   EXPECT_NE(table.find("3 estimated segments (4.5000 m)"), std::string::npos)
       << table;

@@ -5,10 +5,10 @@
 #include <sstream>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/ply.h"
 #include "src/eval/distance_colormap.h"
-#include "src/eval/json_writer.h"
 #include "src/eval/mesh_sampling.h"
 #include "src/eval/nearest_neighbor.h"
 
@@ -292,64 +292,40 @@ std::string FormatMeshEvaluation(const MeshEvaluation& evaluation) {
 
 namespace {
 
-void WriteStatsJson(JsonWriter* json, const std::string& key,
-                    const ErrorStats& stats) {
-  json->Key(key);
-  json->BeginObject();
-  json->Field("count", static_cast<uint64_t>(stats.count));
-  json->Field("mean", stats.mean);
-  json->Field("median", stats.median);
-  json->Field("rmse", stats.rmse);
-  json->Field("max", stats.max);
-  json->EndObject();
+Json StatsToJson(const ErrorStats& stats) {
+  Json json;
+  json["count"] = stats.count;
+  json["mean"] = stats.mean;
+  json["median"] = stats.median;
+  json["rmse"] = stats.rmse;
+  json["max"] = stats.max;
+  return json;
 }
 
 }  // namespace
 
 void WriteMeshEvaluationJson(const std::string& path,
                              const MeshEvaluation& evaluation) {
-  WriteFileAtomically(
-      path,
-      [&evaluation](std::ostream& stream) {
-        JsonWriter json(&stream);
-        json.BeginObject();
-        json.Field("evaluator", "mesh");
-        json.Field("estimate_is_mesh", evaluation.estimate_is_mesh);
-        json.Field("estimate_area_m2", evaluation.estimate_area_m2);
-        json.Field("num_estimate_vertices",
-                   static_cast<uint64_t>(evaluation.num_estimate_vertices));
-        json.Field("num_estimate_triangles",
-                   static_cast<uint64_t>(evaluation.num_estimate_triangles));
-        json.Field("num_estimate_points",
-                   static_cast<uint64_t>(evaluation.estimate_points.size()));
-        json.Field(
-            "num_estimate_points_in_crop",
-            static_cast<uint64_t>(evaluation.num_estimate_points_in_crop));
-        json.Field("num_reference_points",
-                   static_cast<uint64_t>(evaluation.reference_points.size()));
-        json.Field(
-            "num_reference_points_kept",
-            static_cast<uint64_t>(evaluation.num_reference_points_kept));
-        json.Key("crop_min");
-        json.Array({evaluation.crop_min.x(), evaluation.crop_min.y(),
-                    evaluation.crop_min.z()});
-        json.Key("crop_max");
-        json.Array({evaluation.crop_max.x(), evaluation.crop_max.y(),
-                    evaluation.crop_max.z()});
-        WriteStatsJson(&json, "accuracy_m", evaluation.accuracy_m);
-        WriteStatsJson(&json, "completeness_m", evaluation.completeness_m);
-        json.Key("thresholds_m");
-        json.Array(evaluation.thresholds_m);
-        json.Key("precision");
-        json.Array(evaluation.precisions);
-        json.Key("recall");
-        json.Array(evaluation.recalls);
-        json.Key("fscore");
-        json.Array(evaluation.fscores);
-        json.Field("color_threshold_m", evaluation.color_threshold_m);
-        json.EndObject();
-      },
-      /*binary=*/false);
+  Json json;
+  json["evaluator"] = "mesh";
+  json["estimate_is_mesh"] = evaluation.estimate_is_mesh;
+  json["estimate_area_m2"] = evaluation.estimate_area_m2;
+  json["num_estimate_vertices"] = evaluation.num_estimate_vertices;
+  json["num_estimate_triangles"] = evaluation.num_estimate_triangles;
+  json["num_estimate_points"] = evaluation.estimate_points.size();
+  json["num_estimate_points_in_crop"] = evaluation.num_estimate_points_in_crop;
+  json["num_reference_points"] = evaluation.reference_points.size();
+  json["num_reference_points_kept"] = evaluation.num_reference_points_kept;
+  json["crop_min"] = VectorToJson(evaluation.crop_min);
+  json["crop_max"] = VectorToJson(evaluation.crop_max);
+  json["accuracy_m"] = StatsToJson(evaluation.accuracy_m);
+  json["completeness_m"] = StatsToJson(evaluation.completeness_m);
+  json["thresholds_m"] = evaluation.thresholds_m;
+  json["precision"] = evaluation.precisions;
+  json["recall"] = evaluation.recalls;
+  json["fscore"] = evaluation.fscores;
+  json["color_threshold_m"] = evaluation.color_threshold_m;
+  WriteJsonFile(path, json);
 }
 
 void WritePrecisionColoredPly(const std::string& path,

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/ply.h"
 #include "colmap_ext/util/testing.h"
@@ -253,12 +254,22 @@ TEST(MeshEvaluator, PointCloudEstimateAndColouredPly) {
 
   const std::string json_path = JoinPaths(dir, "mesh.json");
   WriteMeshEvaluationJson(json_path, evaluation);
-  const std::string json = ReadTextFile(json_path);
-  EXPECT_NE(json.find("\"thresholds_m\": [0.02, 0.05, 0.1, 0.2, 0.5]"),
-            std::string::npos)
-      << json;
-  EXPECT_NE(json.find("\"recall\": [0.5, 0.5, 1, 1, 1]"), std::string::npos)
-      << json;
+  const Json json = ReadJsonFile(json_path);
+  EXPECT_EQ(json.at("evaluator"), "mesh");
+  EXPECT_EQ(json.at("thresholds_m"), Json({0.02, 0.05, 0.1, 0.2, 0.5}));
+  EXPECT_EQ(json.at("recall"), Json({0.5, 0.5, 1.0, 1.0, 1.0}));
+  EXPECT_EQ(json.at("precision"), Json(evaluation.precisions));
+  EXPECT_EQ(json.at("fscore"), Json(evaluation.fscores));
+  EXPECT_EQ(json.at("estimate_is_mesh"), evaluation.estimate_is_mesh);
+  EXPECT_EQ(json.at("num_estimate_points"), evaluation.estimate_points.size());
+  EXPECT_EQ(json.at("accuracy_m").at("count"), evaluation.accuracy_m.count);
+  EXPECT_EQ(json.at("accuracy_m").at("max").get<double>(),
+            evaluation.accuracy_m.max);
+  EXPECT_EQ(json.at("completeness_m").at("median").get<double>(),
+            evaluation.completeness_m.median);
+  ASSERT_EQ(json.at("crop_min").size(), 3u);
+  EXPECT_EQ(json.at("color_threshold_m").get<double>(),
+            evaluation.color_threshold_m);
   const std::string table = FormatMeshEvaluation(evaluation);
   EXPECT_NE(table.find("precision"), std::string::npos) << table;
 }

@@ -9,8 +9,8 @@
 #include <Eigen/Geometry>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
-#include "src/eval/json_writer.h"
 #include "src/eval/pose_alignment.h"
 
 namespace colmap_lidar {
@@ -273,86 +273,51 @@ std::string FormatPoseEvaluation(const PoseEvaluation& evaluation) {
 
 namespace {
 
-void WriteStats(JsonWriter* json, const std::string& key,
-                const ErrorStats& stats) {
-  json->Key(key);
-  json->BeginObject();
-  json->Field("count", static_cast<uint64_t>(stats.count));
-  json->Field("mean", stats.mean);
-  json->Field("median", stats.median);
-  json->Field("rmse", stats.rmse);
-  json->Field("max", stats.max);
-  json->EndObject();
+Json StatsToJson(const ErrorStats& stats) {
+  Json json;
+  json["count"] = stats.count;
+  json["mean"] = stats.mean;
+  json["median"] = stats.median;
+  json["rmse"] = stats.rmse;
+  json["max"] = stats.max;
+  return json;
 }
 
 }  // namespace
 
 void WritePoseEvaluationJson(const std::string& path,
                              const PoseEvaluation& evaluation) {
-  WriteFileAtomically(
-      path,
-      [&evaluation](std::ostream& stream) {
-        JsonWriter json(&stream);
-        json.BeginObject();
-        json.Field("evaluator", "pose");
-        json.Field("alignment", evaluation.alignment);
-        json.Key("transform");
-        json.BeginObject();
-        json.Field("scale", evaluation.scale);
-        json.Key("rotation");
-        json.BeginArray();
-        for (int r = 0; r < 3; ++r) {
-          json.Array({evaluation.rotation(r, 0), evaluation.rotation(r, 1),
-                      evaluation.rotation(r, 2)});
-        }
-        json.EndArray();
-        json.Key("translation");
-        json.Array({evaluation.translation.x(), evaluation.translation.y(),
-                    evaluation.translation.z()});
-        json.EndObject();
-        json.Field("num_ground_truth_frames",
-                   static_cast<uint64_t>(evaluation.num_ground_truth_frames));
-        json.Field("num_model_images",
-                   static_cast<uint64_t>(evaluation.num_model_images));
-        json.Field("num_matched",
-                   static_cast<uint64_t>(evaluation.num_matched));
-        json.Field("num_missing",
-                   static_cast<uint64_t>(evaluation.num_missing));
-        json.Field("num_unmatched_images",
-                   static_cast<uint64_t>(evaluation.num_unmatched_images));
-        WriteStats(&json, "position_error_m", evaluation.position_stats_m);
-        WriteStats(&json, "rotation_error_deg",
-                   evaluation.rotation_stats_deg);
-        json.Key("position_thresholds_m");
-        json.Array(evaluation.position_thresholds_m);
-        json.Key("position_recalls");
-        json.Array(evaluation.position_recalls);
-        json.Key("rotation_thresholds_deg");
-        json.Array(evaluation.rotation_thresholds_deg);
-        json.Key("rotation_recalls");
-        json.Array(evaluation.rotation_recalls);
-        json.Key("pose_recalls");
-        json.Array(evaluation.pose_recalls);
-        json.Key("missing_frames");
-        json.BeginArray();
-        for (const std::string& frame : evaluation.missing_frames) {
-          json.Value(frame);
-        }
-        json.EndArray();
-        json.Key("images");
-        json.BeginArray();
-        for (const ImagePoseError& error : evaluation.errors) {
-          json.BeginObject();
-          json.Field("image_name", error.image_name);
-          json.Field("frame", error.frame);
-          json.Field("position_error_m", error.position_error_m);
-          json.Field("rotation_error_deg", error.rotation_error_deg);
-          json.EndObject();
-        }
-        json.EndArray();
-        json.EndObject();
-      },
-      /*binary=*/false);
+  Json json;
+  json["evaluator"] = "pose";
+  json["alignment"] = evaluation.alignment;
+  Json transform;
+  transform["scale"] = evaluation.scale;
+  transform["rotation"] = MatrixRowsToJson(evaluation.rotation);
+  transform["translation"] = VectorToJson(evaluation.translation);
+  json["transform"] = std::move(transform);
+  json["num_ground_truth_frames"] = evaluation.num_ground_truth_frames;
+  json["num_model_images"] = evaluation.num_model_images;
+  json["num_matched"] = evaluation.num_matched;
+  json["num_missing"] = evaluation.num_missing;
+  json["num_unmatched_images"] = evaluation.num_unmatched_images;
+  json["position_error_m"] = StatsToJson(evaluation.position_stats_m);
+  json["rotation_error_deg"] = StatsToJson(evaluation.rotation_stats_deg);
+  json["position_thresholds_m"] = evaluation.position_thresholds_m;
+  json["position_recalls"] = evaluation.position_recalls;
+  json["rotation_thresholds_deg"] = evaluation.rotation_thresholds_deg;
+  json["rotation_recalls"] = evaluation.rotation_recalls;
+  json["pose_recalls"] = evaluation.pose_recalls;
+  json["missing_frames"] = evaluation.missing_frames;
+  Json images = Json::array();
+  for (const ImagePoseError& error : evaluation.errors) {
+    Json& image = images.emplace_back();
+    image["image_name"] = error.image_name;
+    image["frame"] = error.frame;
+    image["position_error_m"] = error.position_error_m;
+    image["rotation_error_deg"] = error.rotation_error_deg;
+  }
+  json["images"] = std::move(images);
+  WriteJsonFile(path, json);
 }
 
 Eigen::Affine3d GroundTruthFromEstimate(const PoseEvaluation& evaluation) {

@@ -108,7 +108,8 @@ Eigen::Affine3d GroundTruthFromEstimate(const PoseEvaluation& evaluation);
 
 // Fixed-width summary table.
 std::string FormatPoseEvaluation(const PoseEvaluation& evaluation);
-// JSON report (see json_writer.h), written atomically; throws naming path.
+// JSON report (see colmap_ext/util/json.h), written atomically; throws
+// naming the path.
 void WritePoseEvaluationJson(const std::string& path,
                              const PoseEvaluation& evaluation);
 

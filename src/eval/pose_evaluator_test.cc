@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/testing.h"
 
@@ -319,13 +320,46 @@ TEST(PoseEvaluator, WritesJson) {
   const std::string path =
       JoinPaths(testing::CreateTestDir(), "poses.json");
   WritePoseEvaluationJson(path, evaluation);
-  const std::string json = ReadTextFile(path);
-  EXPECT_NE(json.find("\"alignment\": \"sim3\""), std::string::npos) << json;
-  EXPECT_NE(json.find("\"num_matched\": 6"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"position_recalls\": [1, 1, 1, 1]"),
-            std::string::npos)
-      << json;
-  EXPECT_NE(json.find("\"frame\": \"000005\""), std::string::npos) << json;
+  const Json json = ReadJsonFile(path);
+  // The keys scripts/pose_table.py and the report read, in this order.
+  std::vector<std::string> keys;
+  for (const auto& item : json.items()) {
+    keys.push_back(item.key());
+  }
+  EXPECT_EQ(keys,
+            std::vector<std::string>(
+                {"evaluator", "alignment", "transform",
+                 "num_ground_truth_frames", "num_model_images", "num_matched",
+                 "num_missing", "num_unmatched_images", "position_error_m",
+                 "rotation_error_deg", "position_thresholds_m",
+                 "position_recalls", "rotation_thresholds_deg",
+                 "rotation_recalls", "pose_recalls", "missing_frames",
+                 "images"}));
+  EXPECT_EQ(json.at("evaluator"), "pose");
+  EXPECT_EQ(json.at("alignment"), "sim3");
+  EXPECT_TRUE(json.at("num_matched").is_number_unsigned());
+  EXPECT_EQ(json.at("num_matched"), 6);
+  EXPECT_EQ(json.at("position_recalls"), Json({1.0, 1.0, 1.0, 1.0}));
+  EXPECT_EQ(json.at("position_thresholds_m"),
+            Json(evaluation.position_thresholds_m));
+  EXPECT_EQ(json.at("position_error_m").at("count"), 6);
+  EXPECT_EQ(json.at("position_error_m").at("max").get<double>(),
+            evaluation.position_stats_m.max);
+  EXPECT_EQ(json.at("transform").at("scale").get<double>(), evaluation.scale);
+  ASSERT_EQ(json.at("transform").at("rotation").size(), 3u);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(json.at("transform").at("rotation").at(r).at(c).get<double>(),
+                evaluation.rotation(r, c));
+    }
+  }
+  EXPECT_EQ(json.at("transform").at("translation").size(), 3u);
+  EXPECT_TRUE(json.at("missing_frames").is_array());
+  EXPECT_TRUE(json.at("missing_frames").empty());
+  ASSERT_EQ(json.at("images").size(), 6u);
+  EXPECT_EQ(json.at("images").at(5).at("frame"), "000005");
+  EXPECT_EQ(json.at("images").at(5).at("rotation_error_deg").get<double>(),
+            evaluation.errors[5].rotation_error_deg);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "src/eval/real_data_evaluator.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <functional>
 #include <iomanip>
@@ -14,10 +15,10 @@
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/ply.h"
 #include "src/eval/eval_stats.h"
-#include "src/eval/json_writer.h"
 #include "src/eval/mesh_sampling.h"
 #include "src/eval/nearest_neighbor.h"
 #include "src/lidar/gicp_helpers.h"
@@ -60,18 +61,21 @@ double TrajectoryLength(const std::vector<Eigen::Vector3d>& centres) {
   return length;
 }
 
+// "lidar_within_0.1m": the shortest text that reads back to the threshold.
 std::string ThresholdKey(const std::string& prefix, double threshold_m) {
-  return prefix + JsonWriter::FormatDouble(threshold_m) + "m";
+  char buffer[64];
+  const std::to_chars_result result =
+      std::to_chars(buffer, buffer + sizeof(buffer), threshold_m);
+  return prefix + std::string(buffer, result.ptr) + "m";
 }
 
-void WriteCrispness(const std::string& prefix, const CrispnessStats& stats,
-                    JsonWriter* json) {
-  json->Field(prefix + "_median_m", stats.median_m);
-  json->Field(prefix + "_p90_m", stats.p90_m);
-  json->Field(prefix + "_coverage", stats.coverage);
-  json->Field(prefix + "_num_planes", static_cast<uint64_t>(stats.num_planes));
-  json->Key(prefix + "_frame_median_m");
-  json->Array(stats.frame_median_m);
+void AddCrispness(const std::string& prefix, const CrispnessStats& stats,
+                  Json* json) {
+  (*json)[prefix + "_median_m"] = stats.median_m;
+  (*json)[prefix + "_p90_m"] = stats.p90_m;
+  (*json)[prefix + "_coverage"] = stats.coverage;
+  (*json)[prefix + "_num_planes"] = stats.num_planes;
+  (*json)[prefix + "_frame_median_m"] = stats.frame_median_m;
 }
 
 }  // namespace
@@ -531,72 +535,57 @@ RealDataEvaluation EvaluateRealData(const RealDataEvaluationInput& input,
 
 void WriteRealDataJson(const std::string& path,
                        const RealDataEvaluation& evaluation) {
-  WriteFileAtomically(
-      path,
-      [&](std::ostream& stream) {
-        JsonWriter json(&stream);
-        json.BeginObject();
-        json.Field("num_frames", static_cast<uint64_t>(evaluation.num_frames));
-        json.Key("crispness");
-        json.BeginObject();
-        json.Field("voxel_size_m", evaluation.crispness_voxel_size_m);
-        json.Field("radius_m", evaluation.crispness_radius_m);
-        json.Field("num_queries",
-                   static_cast<uint64_t>(evaluation.refined_crispness.num_queries));
-        WriteCrispness("refined", evaluation.refined_crispness, &json);
-        if (evaluation.has_prior) {
-          WriteCrispness("prior", evaluation.prior_crispness, &json);
-        }
-        if (evaluation.has_trajectory) {
-          WriteCrispness("odometry", evaluation.odometry_crispness, &json);
-        }
-        json.EndObject();
-        if (evaluation.has_trajectory) {
-          const TrajectoryComparison& trajectory = evaluation.trajectory;
-          json.Key("trajectory");
-          json.BeginObject();
-          json.Field("num_steps", static_cast<uint64_t>(trajectory.num_steps));
-          json.Field("odometry_length_m", trajectory.odometry_length_m);
-          json.Field("refined_length_m", trajectory.refined_length_m);
-          if (evaluation.has_prior) {
-            json.Field("prior_length_m", trajectory.prior_length_m);
-          }
-          json.Field("length_ratio", trajectory.length_ratio);
-          json.Field("max_step_difference_m", trajectory.max_step_difference_m);
-          json.Field("max_step_difference_frame",
-                     trajectory.max_step_difference_frame);
-          json.Field("num_failed_registrations",
-                     static_cast<uint64_t>(trajectory.num_failed_registrations));
-          json.Field("min_fitness", trajectory.min_fitness);
-          json.Key("odometry_steps_m");
-          json.Array(trajectory.odometry_steps_m);
-          json.Key("refined_steps_m");
-          json.Array(trajectory.refined_steps_m);
-          json.Key("fitness");
-          json.Array(trajectory.fitness);
-          json.EndObject();
-        }
-        if (evaluation.has_mesh) {
-          const MeshVsLidar& mesh = evaluation.mesh_vs_lidar;
-          json.Key("mesh_vs_lidar");
-          json.BeginObject();
-          json.Field("num_lidar_points",
-                     static_cast<uint64_t>(mesh.num_lidar_points));
-          json.Field("num_mesh_samples",
-                     static_cast<uint64_t>(mesh.num_mesh_samples));
-          json.Field("mesh_area_m2", mesh.mesh_area_m2);
-          for (size_t t = 0; t < mesh.thresholds_m.size(); ++t) {
-            json.Field(ThresholdKey("lidar_within_", mesh.thresholds_m[t]),
-                       mesh.lidar_within[t]);
-            json.Field(ThresholdKey("mesh_within_", mesh.thresholds_m[t]),
-                       mesh.mesh_within[t]);
-          }
-          json.EndObject();
-        }
-        json.EndObject();
-        stream << "\n";
-      },
-      /*binary=*/false);
+  Json json;
+  json["num_frames"] = evaluation.num_frames;
+  Json crispness;
+  crispness["voxel_size_m"] = evaluation.crispness_voxel_size_m;
+  crispness["radius_m"] = evaluation.crispness_radius_m;
+  crispness["num_queries"] = evaluation.refined_crispness.num_queries;
+  AddCrispness("refined", evaluation.refined_crispness, &crispness);
+  if (evaluation.has_prior) {
+    AddCrispness("prior", evaluation.prior_crispness, &crispness);
+  }
+  if (evaluation.has_trajectory) {
+    AddCrispness("odometry", evaluation.odometry_crispness, &crispness);
+  }
+  json["crispness"] = std::move(crispness);
+  if (evaluation.has_trajectory) {
+    const TrajectoryComparison& trajectory = evaluation.trajectory;
+    Json trajectory_json;
+    trajectory_json["num_steps"] = trajectory.num_steps;
+    trajectory_json["odometry_length_m"] = trajectory.odometry_length_m;
+    trajectory_json["refined_length_m"] = trajectory.refined_length_m;
+    if (evaluation.has_prior) {
+      trajectory_json["prior_length_m"] = trajectory.prior_length_m;
+    }
+    trajectory_json["length_ratio"] = trajectory.length_ratio;
+    trajectory_json["max_step_difference_m"] =
+        trajectory.max_step_difference_m;
+    trajectory_json["max_step_difference_frame"] =
+        trajectory.max_step_difference_frame;
+    trajectory_json["num_failed_registrations"] =
+        trajectory.num_failed_registrations;
+    trajectory_json["min_fitness"] = trajectory.min_fitness;
+    trajectory_json["odometry_steps_m"] = trajectory.odometry_steps_m;
+    trajectory_json["refined_steps_m"] = trajectory.refined_steps_m;
+    trajectory_json["fitness"] = trajectory.fitness;
+    json["trajectory"] = std::move(trajectory_json);
+  }
+  if (evaluation.has_mesh) {
+    const MeshVsLidar& mesh = evaluation.mesh_vs_lidar;
+    Json mesh_json;
+    mesh_json["num_lidar_points"] = mesh.num_lidar_points;
+    mesh_json["num_mesh_samples"] = mesh.num_mesh_samples;
+    mesh_json["mesh_area_m2"] = mesh.mesh_area_m2;
+    for (size_t t = 0; t < mesh.thresholds_m.size(); ++t) {
+      mesh_json[ThresholdKey("lidar_within_", mesh.thresholds_m[t])] =
+          mesh.lidar_within[t];
+      mesh_json[ThresholdKey("mesh_within_", mesh.thresholds_m[t])] =
+          mesh.mesh_within[t];
+    }
+    json["mesh_vs_lidar"] = std::move(mesh_json);
+  }
+  WriteJsonFile(path, json);
 }
 
 std::string FormatRealDataEvaluation(const RealDataEvaluation& evaluation) {

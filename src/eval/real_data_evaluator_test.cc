@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "src/lidar/lidar_test_scene.h"
 
@@ -179,19 +180,33 @@ TEST(RealDataEvaluator, WritesTheKeysTheMatrixTableReads) {
        ("real_data_evaluator_test_" + std::to_string(::getpid()) + ".json"))
           .string();
   WriteRealDataJson(path, evaluation);
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
+  const Json json = ReadJsonFile(path);
   std::filesystem::remove(path);
+  EXPECT_EQ(json.at("num_frames"), evaluation.num_frames);
+  const Json& crispness = json.at("crispness");
   for (const char* key :
-       {"\"crispness\"", "\"refined_median_m\"", "\"prior_median_m\"",
-        "\"refined_p90_m\"", "\"odometry_median_m\"", "\"trajectory\"", "\"odometry_length_m\"",
-        "\"refined_length_m\"", "\"length_ratio\"",
-        "\"max_step_difference_m\"", "\"mesh_vs_lidar\"",
-        "\"lidar_within_0.1m\": 0.25", "\"mesh_within_0.1m\": 0.75",
-        "\"lidar_within_0.5m\"", "\"mesh_within_0.5m\""}) {
-    EXPECT_NE(text.str().find(key), std::string::npos) << key;
+       {"voxel_size_m", "radius_m", "num_queries", "refined_median_m",
+        "refined_p90_m", "refined_coverage", "refined_num_planes",
+        "refined_frame_median_m", "prior_median_m", "odometry_median_m"}) {
+    EXPECT_TRUE(crispness.contains(key)) << key;
   }
+  EXPECT_EQ(crispness.at("refined_median_m").get<double>(),
+            evaluation.refined_crispness.median_m);
+  EXPECT_EQ(crispness.at("prior_frame_median_m"),
+            Json(evaluation.prior_crispness.frame_median_m));
+  for (const char* key :
+       {"odometry_length_m", "refined_length_m", "prior_length_m",
+        "length_ratio", "max_step_difference_m",
+        "max_step_difference_frame", "fitness"}) {
+    EXPECT_TRUE(json.at("trajectory").contains(key)) << key;
+  }
+  EXPECT_EQ(json.at("trajectory").at("length_ratio").get<double>(),
+            evaluation.trajectory.length_ratio);
+  const Json& mesh = json.at("mesh_vs_lidar");
+  EXPECT_EQ(mesh.at("lidar_within_0.1m"), 0.25);
+  EXPECT_EQ(mesh.at("mesh_within_0.1m"), 0.75);
+  EXPECT_EQ(mesh.at("lidar_within_0.5m"), 0.5);
+  EXPECT_EQ(mesh.at("mesh_within_0.5m"), 1.0);
   EXPECT_FALSE(FormatRealDataEvaluation(evaluation).empty());
 }
 

@@ -91,6 +91,26 @@ LidarScan ReadPlyScan(const std::string& path) {
   return scan;
 }
 
+// Bytes of one scalar of a PCL datatype; 0 for an unknown datatype.
+size_t PclScalarSize(const uint8_t datatype) {
+  switch (datatype) {
+    case pcl::PCLPointField::INT8:
+    case pcl::PCLPointField::UINT8:
+      return 1;
+    case pcl::PCLPointField::INT16:
+    case pcl::PCLPointField::UINT16:
+      return 2;
+    case pcl::PCLPointField::INT32:
+    case pcl::PCLPointField::UINT32:
+    case pcl::PCLPointField::FLOAT32:
+      return 4;
+    case pcl::PCLPointField::FLOAT64:
+      return 8;
+    default:
+      return 0;
+  }
+}
+
 // One scalar of a PCL field as double.
 double ReadPclScalar(const uint8_t* data, const uint8_t datatype,
                      const std::string& field, const std::string& path) {
@@ -171,6 +191,29 @@ size_t CheckPcdHeader(const std::string& path) {
   size_t header_bytes = 0;
   const std::vector<std::vector<std::string>> lines =
       ReadHeaderLines(path, "DATA", &header_bytes);
+  // PCL's header parser stops at the first line that is neither empty, nor
+  // a comment, nor a keyword line; fields it has not seen by then stay unset
+  // and it crashes reading the body. Only accept headers that both parsers
+  // read the same way: every line up to DATA is empty, starts with '#', or
+  // starts with a keyword followed by a blank.
+  {
+    static const char* const kKeywords[] = {
+        "VERSION", "FIELDS", "COLUMNS", "SIZE",   "TYPE",
+        "COUNT",   "WIDTH",  "HEIGHT",  "VIEWPOINT", "POINTS", "DATA"};
+    std::ifstream file(path, std::ios::binary);
+    std::string line;
+    for (size_t i = 0; i < lines.size() && std::getline(file, line); ++i) {
+      bool ok = line.empty() || line[0] == '#';
+      for (const char* keyword : kKeywords) {
+        const size_t length = std::strlen(keyword);
+        ok = ok || (line.compare(0, length, keyword) == 0 &&
+                    line.size() > length &&
+                    (line[length] == ' ' || line[length] == '\t'));
+      }
+      THROW_CHECK(ok, "Cannot parse the header of PCD file "
+                          << path << ": unexpected line " << i + 1);
+    }
+  }
   std::map<std::string, std::vector<std::string>> entries;
   for (const std::vector<std::string>& words : lines) {
     if (!words.empty() && words[0][0] != '#') {
@@ -192,23 +235,36 @@ size_t CheckPcdHeader(const std::string& path) {
               "Cannot parse the header of PCD file "
                   << path << ": FIELDS, SIZE, TYPE and COUNT differ in length");
   size_t point_bytes = 0;
+  size_t point_elements = 0;
+  // Bounds that keep every product below far from overflow: PCL stores
+  // WIDTH and HEIGHT as uint32, and no field has more than 2^20 elements.
+  constexpr long long kMaxFieldCount = 1 << 20;
+  constexpr long long kMaxExtent = 0xFFFFFFFFLL;
   for (size_t i = 0; i < fields.size(); ++i) {
     const long long count =
         entries.count("COUNT") ? ParseInt(entries["COUNT"][i],
                                           "COUNT of " + path)
                                : 1;
     const long long size = ParseInt(sizes[i], "SIZE of " + path);
-    THROW_CHECK(count >= 1 && (size == 1 || size == 2 || size == 4 ||
-                               size == 8),
+    THROW_CHECK(count >= 1 && count <= kMaxFieldCount &&
+                    (size == 1 || size == 2 || size == 4 || size == 8),
                 "PCD file " << path << ": invalid SIZE or COUNT of field '"
                             << fields[i] << "'");
     point_bytes += static_cast<size_t>(size * count);
+    point_elements += static_cast<size_t>(count);
   }
   const long long width = ParseInt(entries["WIDTH"][0], "WIDTH of " + path);
   const long long height = ParseInt(entries["HEIGHT"][0], "HEIGHT of " + path);
   const long long num_points =
       ParseInt(entries["POINTS"][0], "POINTS of " + path);
-  THROW_CHECK(width >= 0 && height >= 0 && num_points == width * height,
+  THROW_CHECK(width >= 0 && height >= 0 && width <= kMaxExtent &&
+                  height <= kMaxExtent,
+              "PCD file " << path << ": invalid WIDTH " << width
+                          << " or HEIGHT " << height);
+  THROW_CHECK(num_points >= 0 &&
+                  static_cast<unsigned long long>(num_points) ==
+                      static_cast<unsigned long long>(width) *
+                      static_cast<unsigned long long>(height),
               "PCD file " << path << ": POINTS " << num_points
                           << " differs from WIDTH x HEIGHT");
   const std::string data = StringToLower(entries["DATA"][0]);
@@ -218,14 +274,49 @@ size_t CheckPcdHeader(const std::string& path) {
   const uintmax_t file_bytes = std::filesystem::file_size(path);
   const uintmax_t body_bytes =
       file_bytes > header_bytes ? file_bytes - header_bytes : 0;
-  if (data == "binary") {
-    THROW_CHECK(body_bytes >= point_bytes * static_cast<uintmax_t>(num_points),
+  // The data must be able to hold the points before PCL sizes its buffer
+  // from the header: an ASCII value takes at least one byte.
+  if (data == "ascii") {
+    THROW_CHECK(static_cast<uintmax_t>(num_points) <=
+                    body_bytes / std::max<size_t>(1, point_elements),
+                "PCD file " << path << " is truncated: " << body_bytes
+                            << " data bytes for " << num_points
+                            << " ASCII points");
+  } else if (data == "binary") {
+    THROW_CHECK(static_cast<uintmax_t>(num_points) <=
+                    body_bytes / std::max<size_t>(1, point_bytes),
                 "PCD file " << path << " is truncated: " << body_bytes
                             << " data bytes for " << num_points
                             << " points of " << point_bytes << " bytes");
   } else if (data == "binary_compressed") {
     THROW_CHECK(body_bytes >= 8,
                 "PCD file " << path << " is truncated (no compressed data)");
+    // PCL trusts the two sizes that open the compressed data (it crashes on
+    // an uncompressed size of 0 and reads past the file for a compressed
+    // size beyond it), so check them here: the uncompressed size must be
+    // what the header describes, the compressed bytes must be in the file,
+    // and LZF cannot expand by more than 88 (a 3-byte back reference
+    // yields at most 264 bytes), which also bounds PCL's allocation.
+    uint32_t sizes_in_file[2] = {0, 0};
+    std::ifstream file(path, std::ios::binary);
+    file.seekg(static_cast<std::streamoff>(header_bytes));
+    file.read(reinterpret_cast<char*>(sizes_in_file), sizeof(sizes_in_file));
+    THROW_CHECK(file.good(), "PCD file " << path
+                                         << " is truncated (no compressed "
+                                            "data sizes)");
+    const uint64_t compressed_size = sizes_in_file[0];
+    const uint64_t uncompressed_size = sizes_in_file[1];
+    const uint64_t expected_size =
+        static_cast<uint64_t>(num_points) * static_cast<uint64_t>(point_bytes);
+    THROW_CHECK(uncompressed_size == expected_size &&
+                    compressed_size <= body_bytes - 8 &&
+                    uncompressed_size <= 88 * compressed_size,
+                "PCD file " << path << ": compressed data of "
+                            << compressed_size << " bytes (" << body_bytes - 8
+                            << " in the file) that expand to "
+                            << uncompressed_size << " bytes, but "
+                            << num_points << " points of " << point_bytes
+                            << " bytes need " << expected_size);
   }
   return static_cast<size_t>(num_points);
 }
@@ -263,9 +354,15 @@ LidarScan ReadPcdScan(const std::string& path) {
               "PCD file " << path << " has inconsistent point data");
   for (const pcl::PCLPointField* field : {xyz[0], xyz[1], xyz[2], intensity,
                                           ring}) {
-    THROW_CHECK(field == nullptr || field->offset < cloud.point_step,
+    // The whole first scalar must lie in the record, not only its start.
+    THROW_CHECK(field == nullptr ||
+                    (PclScalarSize(field->datatype) > 0 &&
+                     static_cast<size_t>(field->offset) +
+                             PclScalarSize(field->datatype) <=
+                         cloud.point_step),
                 "PCD file " << path << ": field '" << field->name
-                            << "' lies outside the point record");
+                            << "' lies outside the point record or has an "
+                               "unsupported type");
   }
 
   LidarScan scan;

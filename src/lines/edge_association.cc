@@ -371,7 +371,8 @@ std::vector<ViewLineSegment> LiftSegments(
     const std::vector<LineSegment2D>& segments, const Camera& camera,
     const ProjectedScan& projected, const std::vector<int>& edge_point_idxs,
     const EdgeAssociationOptions& options, std::vector<int>* counts,
-    const RingNeighbors* ring_neighbors) {
+    const RingNeighbors* ring_neighbors,
+    std::vector<LineSegment2D>* not_lifted) {
   PixelGrid edge_grid(static_cast<int>(camera.width),
                       static_cast<int>(camera.height), 16);
   for (const int idx : edge_point_idxs) {
@@ -393,6 +394,8 @@ std::vector<ViewLineSegment> LiftSegments(
     }
     if (result == LiftResult::kLifted) {
       lifted_segments.push_back(std::move(lifted));
+    } else if (not_lifted != nullptr) {
+      not_lifted->push_back(segment);
     }
   }
   return lifted_segments;

@@ -108,11 +108,12 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
 
 // Lifts every segment; returns the lifted ones in input order. counts, when
 // given, receives the number of segments per LiftResult (indexed by the
-// enum value).
+// enum value); not_lifted, when given, the segments that were not lifted.
 std::vector<ViewLineSegment> LiftSegments(
     const std::vector<LineSegment2D>& segments, const Camera& camera,
     const ProjectedScan& projected, const std::vector<int>& edge_point_idxs,
     const EdgeAssociationOptions& options, std::vector<int>* counts = nullptr,
-    const RingNeighbors* ring_neighbors = nullptr);
+    const RingNeighbors* ring_neighbors = nullptr,
+    std::vector<LineSegment2D>* not_lifted = nullptr);
 
 }  // namespace colmap_lidar

@@ -9,15 +9,6 @@
 namespace colmap_lidar {
 namespace {
 
-double DistanceToNearestEdge(const SyntheticView& view,
-                             const Eigen::Vector3d& point) {
-  double best = 1e9;
-  for (const auto& edge : view.edges_in_cam) {
-    best = std::min(best, DistanceToSegment3D(edge.first, edge.second, point));
-  }
-  return best;
-}
-
 class EdgeAssociationTest : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "colmap_ext/util/logging.h"
+#include "src/lidar/sensor_estimation.h"
 #include "src/lines/lbd_descriptor.h"
 
 namespace colmap_lidar {
@@ -33,6 +34,7 @@ bool LineExtractionOptions::Check() const {
   ok = edges.Check() && ok;
   ok = projection.Check() && ok;
   ok = association.Check() && ok;
+  ok = planes.Check() && ok;
   ok = fusion.Check() && ok;
   if (num_threads == 0 || num_threads < -1) {
     LOG(ERROR) << "LineExtraction.num_threads must be -1 or >= 1";
@@ -81,12 +83,43 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
   }
   result.timings.projection_ms = timer.Lap();
 
+  std::vector<LineSegment2D> not_lifted;
   std::vector<ViewLineSegment> lifted =
       LiftSegments(segments, camera, projected, result.visible_edge_point_idxs,
                    options.association, &result.lift_result_counts,
-                   &ring_neighbors);
-  result.num_lifted_segments = static_cast<int>(lifted.size());
+                   &ring_neighbors, &not_lifted);
   result.timings.association_ms = timer.Lap();
+
+  if (options.planes.enabled) {
+    result.range_noise_m = options.planes.range_noise_m;
+    if (result.range_noise_m <= 0.0) {
+      result.range_noise_m =
+          EstimateRangeNoise({scan}, RangeNoiseOptions()).sigma_m;
+    }
+    result.plane_lift_result_counts.assign(
+        static_cast<int>(PlaneLiftResult::kBackProjection) + 1, 0);
+    for (const LineSegment2D& segment : not_lifted) {
+      ViewLineSegment plane_lifted;
+      const PlaneLiftResult outcome = LiftSegmentByPlanes(
+          segment, camera, projected, options.planes, result.range_noise_m,
+          options.association.max_reprojection_angle_deg,
+          options.association.max_reprojection_distance_px,
+          options.association.min_ray_line_angle_deg, &plane_lifted);
+      ++result.plane_lift_result_counts[static_cast<int>(outcome)];
+      if (outcome == PlaneLiftResult::kCrease ||
+          outcome == PlaneLiftResult::kOcclusion) {
+        if (plane_lifted.start3D_in_cam.norm() <=
+                options.association.max_endpoint_range &&
+            plane_lifted.end3D_in_cam.norm() <=
+                options.association.max_endpoint_range) {
+          lifted.push_back(std::move(plane_lifted));
+          ++result.num_plane_lifted_segments;
+        }
+      }
+    }
+  }
+  result.num_lifted_segments = static_cast<int>(lifted.size());
+  result.timings.planes_ms = timer.Lap();
 
   result.segments =
       FuseSegments(std::move(lifted), projected.points_in_cam, camera,

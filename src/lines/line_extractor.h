@@ -16,6 +16,7 @@
 #include "src/lines/lidar_edges.h"
 #include "src/lines/line_types.h"
 #include "src/lines/lsd_detector.h"
+#include "src/lines/plane_lifting.h"
 #include "src/lines/scan_projection.h"
 #include "src/lines/segment_fusion.h"
 
@@ -26,6 +27,7 @@ struct LineExtractionOptions {
   LidarEdgeOptions edges;
   ScanProjectionOptions projection;
   EdgeAssociationOptions association;
+  PlaneLiftingOptions planes;
   SegmentFusionOptions fusion;
   // Compute the LBD descriptor of every output segment.
   bool compute_descriptors = true;
@@ -40,11 +42,12 @@ struct LineExtractionTimings {
   double edges_ms = 0.0;
   double projection_ms = 0.0;
   double association_ms = 0.0;
+  double planes_ms = 0.0;
   double fusion_ms = 0.0;
   double descriptor_ms = 0.0;
   double TotalMs() const {
-    return lsd_ms + edges_ms + projection_ms + association_ms + fusion_ms +
-           descriptor_ms;
+    return lsd_ms + edges_ms + projection_ms + association_ms + planes_ms +
+           fusion_ms + descriptor_ms;
   }
 };
 
@@ -55,8 +58,14 @@ struct ViewLines {
   // before fusion.
   int num_lsd_segments = 0;
   int num_lifted_segments = 0;
-  // Why the others were not lifted, indexed by LiftResult.
+  // Why the others were not lifted by edge points, indexed by LiftResult.
   std::vector<int> lift_result_counts;
+  // Of those, lifted by the surfaces on their sides (plane_lifting.h), and
+  // the outcome of that for every one of them, indexed by PlaneLiftResult.
+  int num_plane_lifted_segments = 0;
+  std::vector<int> plane_lift_result_counts;
+  // The range noise sigma the plane lifting used, metres.
+  double range_noise_m = 0.0;
   // Edge points of the scan and those the camera sees (for the overlay:
   // indices into the scan and their pixels).
   int num_edge_points = 0;

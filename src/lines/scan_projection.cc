@@ -1,6 +1,7 @@
 #include "src/lines/scan_projection.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "colmap_ext/util/logging.h"
@@ -49,6 +50,10 @@ ProjectedScan ProjectScan(const LidarScan& scan, const Camera& camera,
   projected.visible.assign(n, false);
 
   const Eigen::Matrix3d rotation = cam_from_lidar.rotation.toRotationMatrix();
+  projected.lidar_from_cam_rotation = rotation.transpose();
+  double min_elevation = 0.0;
+  double max_elevation = 0.0;
+  bool any_elevation = false;
   const int cell = options.zbuffer_cell_px;
   const int zb_width = (width + cell - 1) / cell;
   const int zb_height = (height + cell - 1) / cell;
@@ -59,6 +64,18 @@ ProjectedScan ProjectScan(const LidarScan& scan, const Camera& camera,
     const Eigen::Vector3d point_in_cam =
         rotation * scan.points[i].cast<double>() + cam_from_lidar.translation;
     projected.points_in_cam[i] = point_in_cam;
+    const Eigen::Vector3f& point = scan.points[i];
+    const double elevation =
+        std::atan2(static_cast<double>(point.z()),
+                   std::hypot(static_cast<double>(point.x()),
+                              static_cast<double>(point.y())));
+    if (std::isfinite(elevation)) {
+      min_elevation = any_elevation ? std::min(min_elevation, elevation)
+                                    : elevation;
+      max_elevation = any_elevation ? std::max(max_elevation, elevation)
+                                    : elevation;
+      any_elevation = true;
+    }
     if (point_in_cam.z() < options.min_depth ||
         point_in_cam.z() > options.max_depth) {
       continue;
@@ -75,6 +92,8 @@ ProjectedScan ProjectScan(const LidarScan& scan, const Camera& camera,
     zbuffer[cell_idx] =
         std::min(zbuffer[cell_idx], static_cast<float>(point_in_cam.z()));
   }
+  projected.min_elevation_rad = min_elevation;
+  projected.max_elevation_rad = max_elevation;
   projected.visible_grid = PixelGrid(width, height, 16);
   for (size_t i = 0; i < n; ++i) {
     if (zbuffer_cell[i] < 0) {
@@ -90,6 +109,15 @@ ProjectedScan ProjectScan(const LidarScan& scan, const Camera& camera,
     }
   }
   return projected;
+}
+
+bool WithinLidarElevation(const ProjectedScan& projected,
+                          const Eigen::Vector3d& ray_in_cam,
+                          const double margin_rad) {
+  const Eigen::Vector3d ray = projected.lidar_from_cam_rotation * ray_in_cam;
+  const double elevation = std::atan2(ray.z(), std::hypot(ray.x(), ray.y()));
+  return elevation >= projected.min_elevation_rad + margin_rad &&
+         elevation <= projected.max_elevation_rad - margin_rad;
 }
 
 }  // namespace colmap_lidar

@@ -72,7 +72,20 @@ struct ProjectedScan {
   // Visible points, bucketed in 16-pixel cells.
   PixelGrid visible_grid;
   int num_visible = 0;
+  // The LIDAR's field of view as the scan shows it: the rotation of
+  // directions from the camera into the LIDAR frame and the smallest and
+  // largest elevation of the scan's points (radians; 0 / 0 for an empty
+  // scan). A direction within it that holds no point saw no surface within
+  // the LIDAR's range (sky, or a surface that returned nothing).
+  Eigen::Matrix3d lidar_from_cam_rotation = Eigen::Matrix3d::Identity();
+  double min_elevation_rad = 0.0;
+  double max_elevation_rad = 0.0;
 };
+
+// Whether the LIDAR scanned the direction of the camera ray `ray_in_cam`,
+// with a margin (radians) inside its elevation limits.
+bool WithinLidarElevation(const ProjectedScan& projected,
+                          const Eigen::Vector3d& ray_in_cam, double margin_rad);
 
 ProjectedScan ProjectScan(const LidarScan& scan, const Camera& camera,
                           const Rigid3d& cam_from_lidar,

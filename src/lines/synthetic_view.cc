@@ -195,4 +195,14 @@ double DistanceToSegment3D(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   return (a + t * ab - p).norm();
 }
 
+double DistanceToNearestEdge(const SyntheticView& view,
+                             const Eigen::Vector3d& point_in_cam) {
+  double best = std::numeric_limits<double>::max();
+  for (const auto& edge : view.edges_in_cam) {
+    best = std::min(best,
+                    DistanceToSegment3D(edge.first, edge.second, point_in_cam));
+  }
+  return best;
+}
+
 }  // namespace colmap_lidar

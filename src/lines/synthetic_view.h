@@ -65,4 +65,8 @@ SyntheticView MakeSyntheticView(const SyntheticViewOptions& options);
 double DistanceToSegment3D(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                            const Eigen::Vector3d& p);
 
+// Distance from a camera-frame point to the nearest box edge of the view.
+double DistanceToNearestEdge(const SyntheticView& view,
+                             const Eigen::Vector3d& point_in_cam);
+
 }  // namespace colmap_lidar

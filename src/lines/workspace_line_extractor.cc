@@ -184,8 +184,13 @@ WorkspaceLineExtractionSummary ExtractWorkspaceLines(
                   << job.image.name << ": " << num_segments
                   << " 3D segments from " << lines.num_lsd_segments
                   << " 2D segments, " << lines.visible_edge_point_idxs.size()
-                  << " visible edge points, "
-                  << static_cast<int>(lines.timings.TotalMs()) << " ms";
+                  << " visible edge points"
+                  << (options.planes.enabled
+                          ? ", " + std::to_string(lines.num_plane_lifted_segments) +
+                                " lifted by planes (range noise " +
+                                std::to_string(lines.range_noise_m) + " m)"
+                          : std::string())
+                  << ", " << static_cast<int>(lines.timings.TotalMs()) << " ms";
       } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!error) {
@@ -195,6 +200,9 @@ WorkspaceLineExtractionSummary ExtractWorkspaceLines(
       }
     }
   };
+  // All images' segments land together: an image or scan that fails leaves
+  // the database as it was, not half of the workspace re-extracted.
+  DatabaseTransaction transaction(&database);
   std::vector<std::thread> threads;
   for (int i = 0; i < num_threads; ++i) {
     threads.emplace_back(worker);
@@ -205,6 +213,7 @@ WorkspaceLineExtractionSummary ExtractWorkspaceLines(
   if (error) {
     std::rethrow_exception(error);
   }
+  transaction.Commit();
   summary.mean_ms_per_image = num_done > 0 ? total_ms / num_done : 0.0;
   return summary;
 }

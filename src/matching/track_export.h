@@ -11,7 +11,8 @@
 //                                  "end3D_in_cam": [x, y, z]}, ...]}, ...]}
 // 2D endpoints in pixels (COLMAP convention, centre of the upper-left pixel
 // at (0.5, 0.5)); 3D endpoints in metres in that image's camera frame, as
-// ext_line_segments stores them. Numbers with 17 significant digits.
+// ext_line_segments stores them. Numbers with the shortest text that reads
+// back to the same double (colmap_ext/util/json.h).
 #pragma once
 
 #include <string>

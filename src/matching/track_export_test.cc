@@ -1,9 +1,12 @@
 #include "src/matching/track_export.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "colmap_ext/database/line_segments_table.h"
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/testing.h"
 
 namespace colmap_lidar {
@@ -35,13 +38,23 @@ TEST(TrackExport, WritesValidJsonWithObservations) {
   const std::string path = JoinPaths(dir, "tracks.json");
   WriteLineTracksJson(path, database, {track});
 
-  const std::string text = ReadTextFile(path);
-  EXPECT_NE(text.find("\"num_tracks\": 1"), std::string::npos);
-  EXPECT_NE(text.find("\"image_name\": \"a \\\"quoted\\\".png\""),
-            std::string::npos);
-  EXPECT_NE(text.find("\"start2D\": [10.5, 20.25]"), std::string::npos);
-  // 17 significant digits: 1/3 survives.
-  EXPECT_NE(text.find("0.33333333333333331"), std::string::npos);
+  const Json json = ReadJsonFile(path);
+  EXPECT_EQ(json.at("num_tracks"), 1);
+  ASSERT_EQ(json.at("tracks").size(), 1u);
+  const Json& track_json = json.at("tracks").at(0);
+  std::vector<std::string> keys;
+  for (const auto& item : track_json.items()) {
+    keys.push_back(item.key());
+  }
+  EXPECT_EQ(keys, std::vector<std::string>({"line3D_id", "plucker",
+                                            "start_in_world", "end_in_world",
+                                            "observations"}));
+  EXPECT_EQ(track_json.at("plucker"), Json({1.0, 0.0, 0.0, 0.0, 2.0, -3.0}));
+  const Json& observation = track_json.at("observations").at(0);
+  EXPECT_EQ(observation.at("image_name"), "a \"quoted\".png");
+  EXPECT_EQ(observation.at("start2D"), Json({10.5, 20.25}));
+  // The shortest round-trip text: 1/3 reads back exactly.
+  EXPECT_EQ(observation.at("end3D_in_cam").at(0).get<double>(), 1.0 / 3.0);
 
   // An independent JSON parser reads it and finds the values.
   const std::string check = JoinPaths(dir, "check.py");
@@ -66,6 +79,10 @@ TEST(TrackExport, WritesValidJsonWithObservations) {
 
   // A missing segment is an error naming the track.
   track.elements[1].line2D_idx = 5;
+  EXPECT_THROW(WriteLineTracksJson(path, database, {track}), Error);
+  // So is a non-finite coordinate (JSON has no NaN).
+  track.elements[1].line2D_idx = 0;
+  track.plucker(0) = std::nan("");
   EXPECT_THROW(WriteLineTracksJson(path, database, {track}), Error);
 }
 

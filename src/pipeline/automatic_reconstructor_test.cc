@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/model/model_io.h"
@@ -42,42 +42,6 @@ AutomaticReconstructorOptions SmallSceneOptions() {
   return options;
 }
 
-// A number from a JSON file written by src/eval/json_writer: the first
-// value after "key": inside the object that follows "section": (or at top
-// level when section is empty). Enough for the flat reports checked here.
-double JsonNumber(const std::string& path, const std::string& section,
-                  const std::string& key) {
-  const std::string text = ReadTextFile(path);
-  size_t start = 0;
-  if (!section.empty()) {
-    start = text.find("\"" + section + "\":");
-    THROW_CHECK(start != std::string::npos, section << " not in " << path);
-  }
-  const size_t at = text.find("\"" + key + "\":", start);
-  THROW_CHECK(at != std::string::npos, key << " not in " << path);
-  return std::stod(text.substr(text.find(':', at) + 1));
-}
-
-// The list of numbers after "key": [ ... ].
-std::vector<double> JsonArray(const std::string& path, const std::string& key) {
-  const std::string text = ReadTextFile(path);
-  const size_t at = text.find("\"" + key + "\":");
-  THROW_CHECK(at != std::string::npos, key << " not in " << path);
-  const size_t open = text.find('[', at);
-  const size_t close = text.find(']', open);
-  std::string inside = text.substr(open + 1, close - open - 1);
-  for (char& c : inside) {
-    if (c == ',') c = ' ';
-  }
-  std::istringstream stream(inside);
-  std::vector<double> values;
-  double value = 0.0;
-  while (stream >> value) {
-    values.push_back(value);
-  }
-  return values;
-}
-
 TEST(AutomaticReconstructor, SmallSceneEndToEnd) {
   const std::string workspace =
       JoinPaths(testing::CreateTestDir(), "workspace");
@@ -98,29 +62,33 @@ TEST(AutomaticReconstructor, SmallSceneEndToEnd) {
   }
 
   // Poses: the adjustment removes most of the 0.5 m / 5 deg prior noise.
-  const double prior_error = JsonNumber(
-      JoinPaths(paths.eval, "poses_prior_none.json"), "position_error_m",
-      "mean");
-  const double refined_error = JsonNumber(
-      JoinPaths(paths.eval, "poses_refined_none.json"), "position_error_m",
-      "mean");
-  const double refined_sim3_error = JsonNumber(
-      JoinPaths(paths.eval, "poses_refined_sim3.json"), "position_error_m",
-      "mean");
+  const Json prior_none =
+      ReadJsonFile(JoinPaths(paths.eval, "poses_prior_none.json"));
+  const Json refined_none =
+      ReadJsonFile(JoinPaths(paths.eval, "poses_refined_none.json"));
+  const Json refined_sim3 =
+      ReadJsonFile(JoinPaths(paths.eval, "poses_refined_sim3.json"));
+  const double prior_error =
+      prior_none.at("position_error_m").at("mean").get<double>();
+  const double refined_error =
+      refined_none.at("position_error_m").at("mean").get<double>();
+  const double refined_sim3_error =
+      refined_sim3.at("position_error_m").at("mean").get<double>();
   LOG(INFO) << "poses: prior " << prior_error << " m, refined "
             << refined_error << " m (none), " << refined_sim3_error
             << " m (sim3)";
   EXPECT_GT(prior_error, 0.3);
   EXPECT_LT(refined_error, 0.5 * prior_error);
   EXPECT_LT(refined_sim3_error, 0.05);
-  EXPECT_EQ(JsonNumber(JoinPaths(paths.eval, "poses_refined_none.json"), "",
-                       "num_matched"),
-            kNumFrames);
+  EXPECT_EQ(refined_none.at("num_matched").get<int>(), kNumFrames);
 
   // Mesh: thresholds 0.02 0.05 0.1 0.2 0.5 m.
-  const std::string mesh_json = JoinPaths(paths.eval, "mesh_ours.json");
-  const std::vector<double> thresholds = JsonArray(mesh_json, "thresholds_m");
-  const std::vector<double> fscores = JsonArray(mesh_json, "fscore");
+  const Json mesh_json =
+      ReadJsonFile(JoinPaths(paths.eval, "mesh_ours.json"));
+  const std::vector<double> thresholds =
+      mesh_json.at("thresholds_m").get<std::vector<double>>();
+  const std::vector<double> fscores =
+      mesh_json.at("fscore").get<std::vector<double>>();
   ASSERT_EQ(thresholds.size(), 5u);
   ASSERT_EQ(fscores.size(), 5u);
   LOG(INFO) << "mesh F: " << fscores[0] << " " << fscores[1] << " "

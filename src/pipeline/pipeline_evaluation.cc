@@ -7,6 +7,7 @@
 
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/ply.h"
 #include "src/dataset/poses.h"
@@ -104,19 +105,6 @@ struct MeshIcpRecord {
   MeshIcpResult result;
 };
 
-void WriteMatrixJson(std::ostream& stream, const Eigen::Affine3d& transform) {
-  const Eigen::Matrix4d matrix = transform.matrix();
-  stream << "[";
-  for (int r = 0; r < 4; ++r) {
-    stream << (r > 0 ? ", " : "") << "[";
-    for (int c = 0; c < 4; ++c) {
-      stream << (c > 0 ? ", " : "") << matrix(r, c);
-    }
-    stream << "]";
-  }
-  stream << "]";
-}
-
 // The applied mesh alignments (the trajectory fit, and per mesh the fit
 // refined by ICP), for the report and for anyone re-evaluating the meshes
 // with their own tools.
@@ -124,35 +112,28 @@ void WriteMeshAlignmentJson(const std::string& path,
                             const std::string& alignment,
                             const Eigen::Affine3d& reference_from_estimate,
                             const std::vector<MeshIcpRecord>& icp) {
-  WriteFileAtomically(
-      path,
-      [&](std::ostream& stream) {
-        stream << std::setprecision(12) << "{\n  \"alignment\": \""
-               << alignment << "\",\n  \"reference_from_estimate\": ";
-        WriteMatrixJson(stream, reference_from_estimate);
-        // Per mesh: the fit refined by ICP against the reference.
-        stream << ",\n  \"icp\": {";
-        for (size_t i = 0; i < icp.size(); ++i) {
-          const MeshIcpResult& result = icp[i].result;
-          stream << (i > 0 ? "," : "") << "\n    \"" << icp[i].name
-                 << "\": {\"reference_from_estimate\": ";
-          WriteMatrixJson(stream, icp[i].reference_from_estimate);
-          stream << ", \"rotation_deg\": " << result.rotation_deg
-                 << ", \"translation_m\": " << result.translation_m
-                 << ", \"max_distance_m\": "
-                 << result.stage_distances_m.back()
-                 << ", \"inlier_ratio_before\": "
-                 << result.inlier_ratio_before
-                 << ", \"inlier_ratio\": " << result.inlier_ratio
-                 << ", \"inlier_rmse_before_m\": "
-                 << result.inlier_rmse_before_m
-                 << ", \"inlier_rmse_m\": " << result.inlier_rmse_m
-                 << ", \"converged\": "
-                 << (result.converged ? "true" : "false") << "}";
-        }
-        stream << (icp.empty() ? "" : "\n  ") << "}\n}\n";
-      },
-      /*binary=*/false);
+  Json json;
+  json["alignment"] = alignment;
+  json["reference_from_estimate"] =
+      MatrixRowsToJson(reference_from_estimate.matrix());
+  // Per mesh: the fit refined by ICP against the reference.
+  Json icp_json = Json::object();
+  for (const MeshIcpRecord& record : icp) {
+    const MeshIcpResult& result = record.result;
+    Json& mesh = icp_json[record.name];
+    mesh["reference_from_estimate"] =
+        MatrixRowsToJson(record.reference_from_estimate.matrix());
+    mesh["rotation_deg"] = result.rotation_deg;
+    mesh["translation_m"] = result.translation_m;
+    mesh["max_distance_m"] = result.stage_distances_m.back();
+    mesh["inlier_ratio_before"] = result.inlier_ratio_before;
+    mesh["inlier_ratio"] = result.inlier_ratio;
+    mesh["inlier_rmse_before_m"] = result.inlier_rmse_before_m;
+    mesh["inlier_rmse_m"] = result.inlier_rmse_m;
+    mesh["converged"] = result.converged;
+  }
+  json["icp"] = std::move(icp_json);
+  WriteJsonFile(path, json);
 }
 
 // Evaluates a mesh into <dir>/mesh_<name>.json and the two coloured PLYs;

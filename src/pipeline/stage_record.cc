@@ -7,9 +7,9 @@
 #include <sstream>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/string.h"
-#include "src/eval/json_writer.h"
 
 namespace colmap_lidar {
 
@@ -82,29 +82,19 @@ bool ReadStageRecord(const std::string& path, StageRecord* record) {
 
 void WriteStageRecordsJson(const std::string& path,
                            const std::vector<StageRecord>& records) {
-  WriteFileAtomically(
-      path,
-      [&records](std::ostream& stream) {
-        JsonWriter json(&stream);
-        json.BeginObject();
-        json.Key("stages");
-        json.BeginArray();
-        for (const StageRecord& record : records) {
-          json.BeginObject();
-          json.Field("stage", record.stage);
-          json.Field("wall_seconds", record.wall_seconds);
-          json.Field("cpu_seconds", record.cpu_seconds);
-          json.Field("peak_memory_bytes",
-                     static_cast<uint64_t>(record.peak_memory_bytes));
-          json.Field("finished_at", record.finished_at);
-          json.Field("note", record.note);
-          json.EndObject();
-        }
-        json.EndArray();
-        json.EndObject();
-        stream << "\n";
-      },
-      /*binary=*/false);
+  Json stages = Json::array();
+  for (const StageRecord& record : records) {
+    Json& stage = stages.emplace_back();
+    stage["stage"] = record.stage;
+    stage["wall_seconds"] = record.wall_seconds;
+    stage["cpu_seconds"] = record.cpu_seconds;
+    stage["peak_memory_bytes"] = record.peak_memory_bytes;
+    stage["finished_at"] = record.finished_at;
+    stage["note"] = record.note;
+  }
+  Json json;
+  json["stages"] = std::move(stages);
+  WriteJsonFile(path, json);
 }
 
 std::string UtcTimestamp() {

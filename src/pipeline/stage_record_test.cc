@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/testing.h"
 
@@ -32,6 +33,46 @@ TEST(StageRecord, RoundTrips) {
   EXPECT_EQ(read.note, record.note);
   EXPECT_EQ(record.finished_at.size(), 20u);  // 2026-11-22T05:12:03Z
   EXPECT_EQ(record.finished_at.back(), 'Z');
+}
+
+// stages.json: the keys src/pipeline/report.py and scripts/matrix_table.py
+// read, in pipeline order.
+TEST(StageRecord, RecordsJson) {
+  StageRecord first;
+  first.stage = "import";
+  first.wall_seconds = 1.0;
+  first.cpu_seconds = 0.1;
+  first.peak_memory_bytes = 5000000000;
+  first.finished_at = "2026-11-22T05:12:03Z";
+  first.note = "60 \"frames\"";
+  StageRecord second = first;
+  second.stage = "mesh";
+  second.wall_seconds = 212.375;
+  const std::string path =
+      JoinPaths(testing::CreateTestDir(), "stages.json");
+  WriteStageRecordsJson(path, {first, second});
+  const Json json = ReadJsonFile(path);
+  ASSERT_EQ(json.size(), 1u);
+  const Json& stages = json.at("stages");
+  ASSERT_EQ(stages.size(), 2u);
+  std::vector<std::string> keys;
+  for (const auto& item : stages.at(0).items()) {
+    keys.push_back(item.key());
+  }
+  EXPECT_EQ(keys, std::vector<std::string>(
+                      {"stage", "wall_seconds", "cpu_seconds",
+                       "peak_memory_bytes", "finished_at", "note"}));
+  EXPECT_EQ(stages.at(0).at("stage"), "import");
+  EXPECT_EQ(stages.at(1).at("stage"), "mesh");
+  EXPECT_TRUE(stages.at(0).at("wall_seconds").is_number_float());
+  EXPECT_EQ(stages.at(1).at("wall_seconds").get<double>(), 212.375);
+  EXPECT_EQ(stages.at(0).at("cpu_seconds").get<double>(), 0.1);
+  EXPECT_EQ(stages.at(0).at("peak_memory_bytes").get<uint64_t>(),
+            5000000000u);
+  EXPECT_EQ(stages.at(0).at("note"), "60 \"frames\"");
+  // An empty pipeline is an empty list, not null.
+  WriteStageRecordsJson(path, {});
+  EXPECT_EQ(ReadJsonFile(path).at("stages"), Json::array());
 }
 
 TEST(StageRecord, MissingFileIsNotDone) {

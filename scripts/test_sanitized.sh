@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Builds the test suite with AddressSanitizer + UndefinedBehaviorSanitizer in
+# build-asan (-O1 -g, benchmarks off) and runs CTest without the heavy
+# pipeline/automatic_reconstructor test. Any sanitizer report fails its test
+# (UBSan halts on the first error; ASan always does). Prints the build and
+# test wall times and the tests with sanitizer reports.
+#
+# Usage: scripts/test_sanitized.sh [ctest args...]   (e.g. -R mvs/)
+# Environment: ASAN_BUILD_DIR (default build-asan), ASAN_JOBS (build and
+# ctest parallelism, default 2), ASAN_TARGETS (build only these targets),
+# CC / CXX (default gcc / g++).
+# Builds take /tmp/colmap-lidar-build.lock, like every build of this checkout.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir=${ASAN_BUILD_DIR:-build-asan}
+jobs=${ASAN_JOBS:-2}
+lock=/tmp/colmap-lidar-build.lock
+# float-cast-overflow is part of clang's -fsanitize=undefined but not gcc's.
+sanitize="-fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer"
+flags="-O1 -g -DNDEBUG $sanitize"
+
+start=$(date +%s)
+mkdir -p "$build_dir"
+flock "$lock" cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_C_FLAGS_RELWITHDEBINFO="$flags" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$flags" \
+  -DCMAKE_EXE_LINKER_FLAGS="$sanitize" -DCMAKE_SHARED_LINKER_FLAGS="$sanitize" \
+  -DCOLMAP_LIDAR_BUILD_BENCHMARKS=OFF -DCOLMAP_LIDAR_BUILD_TESTS=ON \
+  > "$build_dir/configure.log" 2>&1 || { cat "$build_dir/configure.log"; exit 1; }
+# ASAN_TARGETS: build only these targets (e.g. the tests of a few modules,
+# then pass the matching -R to ctest); default: everything.
+flock "$lock" cmake --build "$build_dir" -j"$jobs" ${ASAN_TARGETS:+--target $ASAN_TARGETS} \
+  > "$build_dir/sanitized_build.log" 2>&1 ||
+  { tail -n 60 "$build_dir/sanitized_build.log"; exit 1; }
+built=$(date +%s)
+echo "test_sanitized: build $(( built - start )) s"
+
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+if [ -f tests/sanitizer/lsan.supp ]; then
+  export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0}
+fi
+status=0
+(cd "$build_dir" && ctest --output-on-failure -j"$jobs" --timeout 1800 \
+   -E '^pipeline/automatic_reconstructor$' "$@") || status=$?
+echo "test_sanitized: tests $(( $(date +%s) - built )) s"
+log="$build_dir/Testing/Temporary/LastTest.log"
+if [ -f "$log" ] && grep -qE 'runtime error:|==[0-9]+==ERROR' "$log"; then
+  echo "test_sanitized: sanitizer reports:"
+  grep -E 'runtime error:|==[0-9]+==ERROR|SUMMARY: ' "$log" | sort | uniq -c | head -40
+  status=1
+fi
+exit $status

@@ -1,0 +1,166 @@
+// Subcommand lidar_delaunay_mesher: Delaunay meshing of a dense workspace's
+// fused visual points, optional LIDAR voxels and optional 3D line samples
+// (Amblard et al. Sec. III-E; src/mesh/delaunay_mesher.h).
+#include <cstdlib>
+#include <string>
+
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "src/exe/commands.h"
+#include "src/exe/option_manager.h"
+#include "src/exe/option_sections.h"
+#include "src/mesh/delaunay_mesher.h"
+
+namespace colmap_lidar {
+
+// Section [DelaunayMeshing]; keep configs/lidar_delaunay_mesher.ini in step.
+void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
+                               MeshingInputOptions* input,
+                               OptionManager* options) {
+  options->AddOption("DelaunayMeshing.use_visual", &input->use_visual,
+                     "Use <workspace>/fused.ply (+ fused.ply.vis), which "
+                     "must then exist.");
+  options->AddOption("DelaunayMeshing.use_lidar", &input->use_lidar,
+                     "Use <workspace>/lidar_fused.ply (+ .vis and "
+                     "lidar_origins.txt) when it exists.");
+  options->AddOption("DelaunayMeshing.visual_weight", &input->visual_weight,
+                     "Weight of a camera ray, times 1 - exp(-n^2 / (2 "
+                     "visibility_sigma^2)) for a point seen in n images; "
+                     ">= 0.");
+  options->AddOption("DelaunayMeshing.visibility_sigma",
+                     &input->visibility_sigma,
+                     "Sigma of the visibility probability above, images, "
+                     "> 0.");
+  options->AddOption("DelaunayMeshing.lidar_weight", &input->lidar_weight,
+                     "Weight of a LIDAR voxel, spread over the frames that "
+                     "saw it, times g(count); >= 0.");
+  options->AddOption("DelaunayMeshing.lidar_count_mapping",
+                     &input->lidar_count_mapping,
+                     "g(count) of a LIDAR voxel: none (1) | linear (count) "
+                     "| log (1 + ln count).");
+  options->AddOption("DelaunayMeshing.max_lidar_rays_per_point",
+                     &input->max_lidar_rays_per_point,
+                     "Rays of a LIDAR voxel from at most this many of its "
+                     "frames, the nearest scanner positions; 0: all.");
+  options->AddOption("DelaunayMeshing.line_weight", &input->line_weight,
+                     "Weight of each ray of a 3D line sample, >= 0.");
+  options->AddOption("DelaunayMeshing.line_sample_step_m",
+                     &input->line_sample_step_m,
+                     "Spacing of the samples along a 3D line segment, "
+                     "metres, > 0.");
+  options->AddOption("DelaunayMeshing.lidar_denoise_radius_m",
+                     &input->lidar_denoising.radius_m,
+                     "LIDAR voxels are projected onto the plane fitted to "
+                     "the voxels within this radius when that neighbourhood "
+                     "is planar, metres; 0 disables. >= 0.");
+  options->AddOption("DelaunayMeshing.lidar_denoise_max_plane_std_m",
+                     &input->lidar_denoising.max_plane_std_m,
+                     "A neighbourhood is planar when its standard deviation "
+                     "along the fitted normal is below this, metres, > 0.");
+  options->AddOption("DelaunayMeshing.lidar_denoise_min_neighbors",
+                     &input->lidar_denoising.min_neighbors,
+                     "Fewest voxels within the radius for a plane fit, >= 3.");
+  options->AddOption("DelaunayMeshing.view_depth_quantile",
+                     &meshing->view_depth_quantile,
+                     "Quantile of the visual points' depths in their cameras "
+                     "that sets the view region's depth, (0, 1].");
+  options->AddOption("DelaunayMeshing.view_depth_factor",
+                     &meshing->view_depth_factor,
+                     "Crop the input to the cameras' view: inside an image "
+                     "and at most this times that depth quantile in front of "
+                     "the camera; 0 meshes everything (surfaces only the "
+                     "LIDAR sees included). 2 bounds KITTI's meshing to "
+                     "minutes. >= 0.");
+  options->AddOption("DelaunayMeshing.max_proj_dist_px",
+                     &meshing->max_proj_dist_px,
+                     "A visual point whose projection is within this many "
+                     "pixels of a nearby vertex in all its images is merged "
+                     "into it; 0 inserts all points. >= 0.");
+  options->AddOption("DelaunayMeshing.max_depth_dist",
+                     &meshing->max_depth_dist,
+                     "Relative depth difference allowed for that merge, "
+                     "[0, 1].");
+  options->AddOption("DelaunayMeshing.min_lidar_vertex_distance_m",
+                     &meshing->min_lidar_vertex_distance_m,
+                     "A LIDAR voxel closer than this to a visual or line "
+                     "vertex is merged into it (the LIDAR-initialised depth "
+                     "maps refine the voxel there), metres; 0 inserts all. "
+                     ">= 0.");
+  options->AddOption("DelaunayMeshing.distance_sigma_factor",
+                     &meshing->distance_sigma_factor,
+                     "Free-space weight falloff sigma near a point, relative "
+                     "to the lower-quartile Delaunay edge length, > 0.");
+  options->AddOption("DelaunayMeshing.behind_distance_factor",
+                     &meshing->behind_distance_factor,
+                     "The inside weight goes to the cell this many sigma "
+                     "behind the point, > 0.");
+  options->AddOption("DelaunayMeshing.quality_regularization",
+                     &meshing->quality_regularization,
+                     "Weight of the surface-quality term per facet "
+                     "(Labatut et al. 2009), >= 0.");
+  options->AddOption("DelaunayMeshing.max_edge_length_factor",
+                     &meshing->max_edge_length_factor,
+                     "Clean-up: remove faces with an edge longer than this "
+                     "times the median edge length; 0 disables. >= 0.");
+  options->AddOption("DelaunayMeshing.min_component_faces",
+                     &meshing->min_component_faces,
+                     "Clean-up: remove connected components with fewer "
+                     "faces; 0 keeps all. >= 0.");
+  options->AddOption("DelaunayMeshing.max_memory_gb", &meshing->max_memory_gb,
+                     "Memory guard, GiB: inputs with more than max_memory_gb "
+                     "* 2^30 / 2500 points are decimated on a voxel grid. "
+                     "> 0.");
+  options->AddOption("DelaunayMeshing.num_threads", &meshing->num_threads,
+                     "Threads of the ray casting; <= 0 uses all cores.");
+  options->AddCheck([meshing, input] {
+    const bool meshing_ok = meshing->Check();
+    const bool input_ok = input->Check();
+    return meshing_ok && input_ok;
+  });
+}
+
+
+int RunLidarDelaunayMesher(int argc, char** argv) {
+  std::string workspace_path;
+  std::string output_path;
+  std::string lines_path;
+  DelaunayMeshingOptions meshing_options;
+  MeshingInputOptions input_options;
+
+  OptionManager options;
+  options.AddRequiredOption("workspace_path", &workspace_path,
+                            "Dense workspace (sparse/, fused.ply, "
+                            "fused.ply.vis; optional lidar_fused.ply, "
+                            "lidar_fused.ply.vis, lidar_origins.txt).");
+  options.AddRequiredOption("output_path", &output_path,
+                            "Mesh PLY to write (binary, float x y z, "
+                            "faces as vertex_indices).");
+  options.AddOption("lines_path", &lines_path,
+                    "Model folder with lines3D.bin/.txt whose segments are "
+                    "sampled into the triangulation; empty: no lines.");
+  AddDelaunayMeshingOptions(&meshing_options, &input_options, &options);
+  if (!options.Parse(argc, argv)) {
+    return options.ExitCode();
+  }
+  if (!ExistsDir(workspace_path)) {
+    LOG(ERROR) << "--workspace_path " << workspace_path << " is not a folder";
+    return EXIT_FAILURE;
+  }
+  if (!lines_path.empty() && !ExistsDir(lines_path)) {
+    LOG(ERROR) << "--lines_path " << lines_path << " is not a folder";
+    return EXIT_FAILURE;
+  }
+  const DelaunayMeshingSummary summary = MeshDenseWorkspace(
+      meshing_options, input_options, workspace_path, lines_path, output_path);
+  LOG(INFO) << "lidar_delaunay_mesher: " << summary.num_input_points
+            << " points, " << summary.num_vertices << " Delaunay vertices, "
+            << summary.num_faces << " faces; triangulation "
+            << summary.triangulation_seconds << " s, visibility "
+            << summary.visibility_seconds << " s, graph cut "
+            << summary.graph_cut_seconds << " s, total "
+            << summary.total_seconds << " s; peak memory "
+            << summary.peak_memory_bytes / (1024.0 * 1024.0) << " MiB";
+  return EXIT_SUCCESS;
+}
+
+}  // namespace colmap_lidar

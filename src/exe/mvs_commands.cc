@@ -1,0 +1,190 @@
+// Subcommands of the dense module (paper section III-E): lidar_fuser and
+// lidar_patch_match_stereo.
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "colmap_ext/model/model_io.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "src/exe/commands.h"
+#include "src/exe/option_manager.h"
+#include "src/exe/option_sections.h"
+#include "src/lidar/lidar_fusion.h"
+#include "src/mvs/lidar_patch_match_stereo.h"
+
+namespace colmap_lidar {
+
+// Section [LidarFusion]; keep configs/lidar_fuser.ini in step.
+void AddLidarFusionOptions(LidarFusionOptions* o, OptionManager* options) {
+  const std::string s = "LidarFusion.";
+  options->AddOption(s + "voxel_size_m", &o->voxel_size_m,
+                     "Voxel edge, metres, > 0.");
+  options->AddOption(s + "min_range_m", &o->min_range_m,
+                     "LIDAR points nearer to their scanner are ignored, "
+                     "metres, >= 0.");
+  options->AddOption(s + "max_range_m", &o->max_range_m,
+                     "LIDAR points farther from their scanner are ignored, "
+                     "metres.");
+  options->AddOption(s + "min_points_per_voxel", &o->min_points_per_voxel,
+                     "Voxels with fewer raw points are dropped, >= 1.");
+  options->AddOption(s + "normal_radius_voxels", &o->normal_radius_voxels,
+                     "Normal plane fit over voxels within this Chebyshev "
+                     "distance, >= 1.");
+  options->AddOption(s + "normal_min_neighbors", &o->normal_min_neighbors,
+                     "Voxels needed for a normal, >= 3.");
+  options->AddOption(s + "max_num_visible_images",
+                     &o->max_num_visible_images,
+                     "Frames listed per voxel in lidar_fused.ply.vis, >= 1.");
+  options->AddCheck([o] { return o->Check(); });
+}
+
+// Section [LidarPatchMatch]; keep configs/lidar_patch_match_stereo.ini in
+// step.
+void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
+                               OptionManager* options) {
+  const std::string s = "LidarPatchMatch.";
+  options->AddOption(s + "init", &o->init,
+                     "Initialisation: lidar (features + fused LIDAR) | "
+                     "random (photogrammetry baseline).");
+  options->AddOption(s + "max_image_size", &o->max_image_size,
+                     "Larger map side at most, pixels; <= 0: full size.");
+  options->AddOption(s + "max_num_src_images", &o->max_num_src_images,
+                     "Source views per reference at most, [1, 64].");
+  options->AddOption(s + "min_triangulation_angle_deg",
+                     &o->min_triangulation_angle_deg,
+                     "Minimum source triangulation angle, degrees.");
+  options->AddOption(s + "lidar_covisibility_weight",
+                     &o->lidar_covisibility_weight,
+                     "Source score: weight of a shared LIDAR voxel vs a "
+                     "shared sparse point, >= 0.");
+  options->AddOption(s + "far_propagation", &o->far_propagation,
+                     "Propagation strips of 15 instead of 7 pixels, 0/1.");
+  options->AddOption(s + "num_iterations", &o->num_iterations,
+                     "Photometric iterations, >= 1.");
+  options->AddOption(s + "geom_consistency", &o->geom_consistency,
+                     "Geometric pass and *.geometric.bin maps, 0/1.");
+  options->AddOption(s + "num_geom_iterations", &o->num_geom_iterations,
+                     "Geometric iterations, >= 1.");
+  options->AddOption(s + "geom_consistency_regularizer",
+                     &o->geom_consistency_regularizer,
+                     "Weight of the reprojection error (pixels) in the "
+                     "geometric cost, >= 0.");
+  options->AddOption(s + "geom_consistency_max_cost",
+                     &o->geom_consistency_max_cost,
+                     "Reprojection error clamp, pixels, > 0.");
+  options->AddOption(s + "window_radius", &o->window_radius,
+                     "NCC window radius, pixels, >= 1.");
+  options->AddOption(s + "window_step", &o->window_step,
+                     "NCC window sampling step, pixels, >= 1.");
+  options->AddOption(s + "sigma_spatial", &o->sigma_spatial,
+                     "Bilateral spatial sigma, pixels; <= 0: window_radius.");
+  options->AddOption(s + "sigma_color", &o->sigma_color,
+                     "Bilateral colour sigma, grey values in [0, 1], > 0.");
+  options->AddOption(s + "best_views_fraction", &o->best_views_fraction,
+                     "Cost = mean of the best ceil(fraction * n) views, "
+                     "(0, 1].");
+  options->AddOption(s + "lidar_prior_weight", &o->lidar_prior_weight,
+                     "Soft LIDAR prior weight in the cost; 0: off.");
+  options->AddOption(s + "lidar_prior_tolerance", &o->lidar_prior_tolerance,
+                     "Relative depth deviation at which the prior term "
+                     "saturates, > 0.");
+  options->AddOption(s + "occlusion_window_radius",
+                     &o->occlusion_window_radius,
+                     "Neighbourhood of the LIDAR occlusion check, pixels.");
+  options->AddOption(s + "occlusion_relative_tolerance",
+                     &o->occlusion_relative_tolerance,
+                     "A LIDAR sample deeper than (1 + this) x its "
+                     "neighbourhood mean is dropped, >= 0.");
+  options->AddOption(s + "interpolation_max_depth_ratio",
+                     &o->interpolation_max_depth_ratio,
+                     "Delaunay triangles with a larger depth ratio use the "
+                     "nearest vertex's plane, > 1.");
+  options->AddOption(s + "min_depth", &o->min_depth,
+                     "LIDAR and feature depths below this are ignored, "
+                     "metres, > 0.");
+  options->AddOption(s + "filter_max_cost", &o->filter_max_cost,
+                     "Pixels with a higher cost (1 - NCC) are invalid, "
+                     "(0, 2].");
+  options->AddOption(s + "filter_min_num_consistent",
+                     &o->filter_min_num_consistent,
+                     "Geometric maps: consistent source views needed, >= 0.");
+  options->AddOption(s + "filter_max_reproj_error",
+                     &o->filter_max_reproj_error,
+                     "Consistency: reprojection error, pixels, > 0.");
+  options->AddOption(s + "filter_max_relative_depth_error",
+                     &o->filter_max_relative_depth_error,
+                     "Consistency: relative depth error, > 0.");
+  options->AddOption(s + "num_threads", &o->num_threads,
+                     "Threads; -1: all cores.");
+  options->AddOption(s + "seed", &o->seed, "Random seed.");
+  options->AddOption(s + "overwrite", &o->overwrite,
+                     "Recompute maps that exist (default: resume), 0/1.");
+  options->AddCheck([o] { return o->Check(); });
+}
+
+
+int RunLidarFuserCommand(int argc, char** argv) {
+  std::string database_path;
+  std::string input_path;
+  std::string output_path;
+  LidarFusionOptions fusion_options;
+  OptionManager options;
+  options.AddRequiredOption("database_path", &database_path,
+                            "COLMAP database with ext_lidar_scans.");
+  options.AddRequiredOption("input_path", &input_path,
+                            "Sparse model with the refined poses.");
+  options.AddRequiredOption("output_path", &output_path,
+                            "Dense workspace (from image_undistorter); "
+                            "receives lidar_fused.ply(.vis) and "
+                            "lidar_origins.txt.");
+  AddLidarFusionOptions(&fusion_options, &options);
+  if (!options.Parse(argc, argv)) {
+    return options.ExitCode();
+  }
+  if (!ExistsFile(database_path)) {
+    LOG(ERROR) << "--database_path " << database_path << " does not exist";
+    return EXIT_FAILURE;
+  }
+  if (!ExistsModel(input_path)) {
+    LOG(ERROR) << "--input_path " << input_path << " holds no sparse model";
+    return EXIT_FAILURE;
+  }
+  const LidarFuserSummary summary =
+      RunLidarFuser(database_path, input_path, output_path, fusion_options);
+  std::cout << "Fused " << summary.num_raw_points << " LIDAR points of "
+            << summary.num_frames - summary.num_frames_without_scan
+            << " frames into " << summary.num_voxels << " voxels ("
+            << summary.num_frames_without_scan << " frames without scan)"
+            << std::endl;
+  return EXIT_SUCCESS;
+}
+
+int RunLidarPatchMatchStereoCommand(int argc, char** argv) {
+  std::string workspace_path;
+  LidarPatchMatchOptions patch_match_options;
+  OptionManager options;
+  options.AddRequiredOption("workspace_path", &workspace_path,
+                            "Dense workspace (image_undistorter output, plus "
+                            "lidar_fused.ply for init lidar).");
+  AddLidarPatchMatchOptions(&patch_match_options, &options);
+  if (!options.Parse(argc, argv)) {
+    return options.ExitCode();
+  }
+  if (!ExistsDir(workspace_path)) {
+    LOG(ERROR) << "--workspace_path " << workspace_path << " is not a folder";
+    return EXIT_FAILURE;
+  }
+  const LidarPatchMatchSummary summary =
+      RunLidarPatchMatchStereo(workspace_path, patch_match_options);
+  std::cout << "PatchMatch: " << summary.num_references << " images, "
+            << summary.num_photometric_computed << " photometric ("
+            << summary.num_photometric_skipped << " skipped), "
+            << summary.num_geometric_computed << " geometric ("
+            << summary.num_geometric_skipped << " skipped), "
+            << summary.num_without_sources << " without sources, "
+            << summary.seconds << " s" << std::endl;
+  return EXIT_SUCCESS;
+}
+
+}  // namespace colmap_lidar

@@ -1,0 +1,369 @@
+// Subcommands of the point + line structure from motion (paper section
+// III-D and the pipeline around it): line_bundle_adjuster, lidar_mapper.
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "colmap_ext/database/line_tracks_table.h"
+#include "colmap_ext/model/model_io.h"
+#include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
+#include "src/dataset/importer.h"
+#include "src/exe/commands.h"
+#include "src/exe/option_manager.h"
+#include "src/exe/option_sections.h"
+#include "src/sfm/ba_input.h"
+#include "src/sfm/lidar_mapper.h"
+
+namespace colmap_lidar {
+namespace {
+
+// Section [LineBundleAdjustment]; keep configs/line_bundle_adjuster.ini and
+// configs/lidar_mapper.ini in step. The enums are read as names.
+struct AdjustmentNames {
+  std::string point_loss_type;
+  std::string line_loss_type;
+  std::string lidar_loss_type;
+  std::string gauge;
+};
+
+void AddAdjustmentOptions(LineBundleAdjustmentOptions* o, AdjustmentNames* n,
+                          bool with_gauge_and_priors, OptionManager* options) {
+  const std::string s = "LineBundleAdjustment.";
+  n->point_loss_type = LineBALossTypeName(o->point_loss_type);
+  n->line_loss_type = LineBALossTypeName(o->line_loss_type);
+  n->lidar_loss_type = LineBALossTypeName(o->lidar_loss_type);
+  n->gauge = LineBAGaugeName(o->gauge);
+  options->AddOption(s + "lambda_R", &o->lambda_R,
+                     "Weight of the point reprojection errors (eq. 3), >= 0.");
+  options->AddOption(s + "lambda_L", &o->lambda_L,
+                     "Weight of the line reprojection errors (eq. 3), >= 0.");
+  options->AddOption(s + "lambda_lidar", &o->lambda_lidar,
+                     "Weight of the LIDAR line residuals (metric scale), "
+                     ">= 0.");
+  options->AddOption(s + "lidar_sigma_m", &o->lidar_sigma_m,
+                     "LIDAR endpoint noise, metres, > 0.");
+  options->AddOption(s + "point_loss_type", &n->point_loss_type,
+                     "TRIVIAL, HUBER, SOFT_L1 or CAUCHY.");
+  options->AddOption(s + "point_loss_scale", &o->point_loss_scale,
+                     "Point loss scale, pixels, > 0.");
+  options->AddOption(s + "line_loss_type", &n->line_loss_type,
+                     "TRIVIAL, HUBER, SOFT_L1 or CAUCHY.");
+  options->AddOption(s + "line_loss_scale", &o->line_loss_scale,
+                     "Line loss scale, pixels, > 0.");
+  options->AddOption(s + "lidar_loss_type", &n->lidar_loss_type,
+                     "TRIVIAL, HUBER, SOFT_L1 or CAUCHY.");
+  options->AddOption(s + "lidar_loss_scale", &o->lidar_loss_scale,
+                     "LIDAR loss scale, in lidar_sigma_m units, > 0.");
+  options->AddOption(s + "lidar_edge_weight", &o->lidar_edge_weight,
+                     "Weight of the LIDAR registration edges (lidar_mapper "
+                     "with init_method lidar_graph), >= 0; 0 = off.");
+  options->AddOption(s + "lidar_edge_loss_scale", &o->lidar_edge_loss_scale,
+                     "Cauchy loss scale of the LIDAR edges, whitened units "
+                     "(sigmas), > 0.");
+  if (with_gauge_and_priors) {
+    options->AddOption(s + "prior_position_sigma_m",
+                       &o->prior_position_sigma_m,
+                       "Pose prior on the camera centre, metres; 0 (with "
+                       "the rotation sigma) = no priors.");
+    options->AddOption(s + "prior_rotation_sigma_deg",
+                       &o->prior_rotation_sigma_deg,
+                       "Pose prior on the orientation, degrees; 0 = off.");
+    options->AddOption(s + "gauge", &n->gauge,
+                       "FIX_FIRST_POSE or POSE_PRIORS (needs the prior "
+                       "sigmas).");
+  }
+  options->AddOption(s + "refine_focal_length", &o->refine_focal_length,
+                     "Refine the focal length(s), 0/1.");
+  options->AddOption(s + "refine_principal_point", &o->refine_principal_point,
+                     "Refine the principal point, 0/1.");
+  options->AddOption(s + "refine_extra_params", &o->refine_extra_params,
+                     "Refine the distortion parameters, 0/1.");
+  options->AddOption(s + "refine_points", &o->refine_points,
+                     "Refine the 3D points, 0/1.");
+  options->AddOption(s + "refine_lines", &o->refine_lines,
+                     "Refine the 3D lines, 0/1.");
+  options->AddOption(s + "min_point_track_length", &o->min_point_track_length,
+                     "Points seen in fewer images are left out, >= 2.");
+  options->AddOption(s + "retriangulation_max_error_px",
+                     &o->retriangulation_max_error_px,
+                     "Re-triangulate points above this error after the "
+                     "first solve, pixels; 0 = off.");
+  options->AddOption(s + "min_constraints_per_image",
+                     &o->min_constraints_per_image,
+                     "Images with fewer scalar residuals stay fixed, >= 0.");
+  options->AddOption(s + "max_num_iterations", &o->max_num_iterations,
+                     "Ceres iterations per solve, > 0.");
+  options->AddOption(s + "function_tolerance", &o->function_tolerance,
+                     "Ceres function tolerance, > 0.");
+  options->AddOption(s + "gradient_tolerance", &o->gradient_tolerance,
+                     "Ceres gradient tolerance, > 0.");
+  options->AddOption(s + "parameter_tolerance", &o->parameter_tolerance,
+                     "Ceres parameter tolerance, > 0.");
+  options->AddOption(s + "use_iterative_schur", &o->use_iterative_schur,
+                     "ITERATIVE_SCHUR instead of SPARSE_SCHUR, 0/1.");
+  options->AddOption(s + "num_threads", &o->num_threads,
+                     "Threads; <= 0: all cores.");
+  // Names are converted before the struct's own check runs.
+  options->AddCheck([o, n] {
+    try {
+      o->point_loss_type = LineBALossTypeFromName(n->point_loss_type);
+      o->line_loss_type = LineBALossTypeFromName(n->line_loss_type);
+      o->lidar_loss_type = LineBALossTypeFromName(n->lidar_loss_type);
+      o->gauge = LineBAGaugeFromName(n->gauge);
+    } catch (const Error& error) {
+      LOG(ERROR) << "LineBundleAdjustment: " << error.what();
+      return false;
+    }
+    return o->Check();
+  });
+}
+
+}  // namespace
+
+// Section [LidarMapper]; keep configs/lidar_mapper.ini in step.
+void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
+  const std::string s = "LidarMapper.";
+  options->AddOption(s + "colmap_binary", &o->colmap_binary,
+                     "Stock colmap binary; empty: $COLMAP_BINARY or PATH.");
+  options->AddOption(s + "num_threads", &o->num_threads,
+                     "Threads of every stage; <= 0: all cores.");
+  options->AddOption(s + "sift_max_image_size", &o->sift_max_image_size,
+                     "SiftExtraction.max_image_size, pixels, > 0.");
+  options->AddOption(s + "plane_lifting", &o->extraction.planes.enabled,
+                     "Line extraction also lifts the segments that no LIDAR "
+                     "edge point supports with the LIDAR planes on their "
+                     "two sides (as line_extractor's "
+                     "--LineExtraction.plane_lifting), 0/1. Not in the "
+                     "paper.");
+  options->AddOption(s + "sift_max_num_features", &o->sift_max_num_features,
+                     "SiftExtraction.max_num_features, > 0.");
+  options->AddOption(s + "exhaustive_max_num_images",
+                     &o->exhaustive_max_num_images,
+                     "Exhaustive matching up to this many images, "
+                     "sequential beyond, >= 0.");
+  options->AddOption(s + "sequential_overlap", &o->sequential_overlap,
+                     "SequentialMatching.overlap, > 0.");
+  options->AddOption(s + "sequential_quadratic_overlap",
+                     &o->sequential_quadratic_overlap,
+                     "SequentialMatching.quadratic_overlap, 0/1.");
+  options->AddOption(s + "init_method", &o->init_method,
+                     "Initial poses: mapper (stock mapper + robust sim3 to "
+                     "the priors), model (init_model_path instead of the "
+                     "mapper), priors, or lidar_graph (a pose graph of "
+                     "LIDAR scan registrations between consecutive and "
+                     "nearby frames with the priors as unary factors).");
+  options->AddOption(s + "init_model_path", &o->init_model_path,
+                     "Sparse model for init_method model.");
+  options->AddOption(s + "init_min_num_inliers", &o->init_min_num_inliers,
+                     "The initial model is rejected unless this many images "
+                     "agree with their priors, >= 3.");
+  options->AddOption(s + "init_min_inlier_ratio", &o->init_min_inlier_ratio,
+                     "... and this fraction of its images, [0, 1].");
+  options->AddOption(s + "mapper_abs_pose_min_num_inliers",
+                     &o->mapper_abs_pose_min_num_inliers,
+                     "Stock mapper's Mapper.abs_pose_min_num_inliers, > 0.");
+  options->AddOption(s + "mapper_abs_pose_min_inlier_ratio",
+                     &o->mapper_abs_pose_min_inlier_ratio,
+                     "Stock mapper's Mapper.abs_pose_min_inlier_ratio, "
+                     "[0, 1].");
+  options->AddOption(s + "mapper_num_attempts", &o->mapper_num_attempts,
+                     "Stock mapper runs (random seeds 0, 1, ...) until one "
+                     "model agrees with the priors, >= 1.");
+  options->AddOption(s + "register_pending_images",
+                     &o->register_pending_images,
+                     "Images the mapper registered outside a consensus are "
+                     "registered by stock image_registrator against each "
+                     "iteration's points (pose kept if within its prior's "
+                     "99.9 % region) instead of staying out, 0/1.");
+  options->AddOption(s + "max_num_iterations", &o->max_num_iterations,
+                     "Triangulate / associate / adjust rounds, >= 1.");
+  options->AddOption(s + "max_position_change_m", &o->max_position_change_m,
+                     "Converged when no camera centre moves more, metres.");
+  options->AddOption(s + "max_rotation_change_deg",
+                     &o->max_rotation_change_deg,
+                     "... and no camera turns more, degrees.");
+  options->AddOption(s + "initial_pose_sigma_t_m", &o->initial_pose_sigma_t_m,
+                     "Association pose uncertainty in the first line "
+                     "iteration, metres, >= 0.");
+  options->AddOption(s + "initial_pose_sigma_r_deg",
+                     &o->initial_pose_sigma_r_deg,
+                     "Same, rotation, degrees, >= 0.");
+  options->AddOption(s + "refined_pose_sigma_t_m", &o->refined_pose_sigma_t_m,
+                     "Association pose uncertainty after a line "
+                     "adjustment, metres, >= 0.");
+  options->AddOption(s + "refined_pose_sigma_r_deg",
+                     &o->refined_pose_sigma_r_deg,
+                     "Same, rotation, degrees, >= 0.");
+  options->AddOption(s + "max_point_error_px", &o->max_point_error_px,
+                     "Points with a larger error are removed after each "
+                     "adjustment, pixels, > 0.");
+  options->AddOption(s + "max_line_error_px", &o->max_line_error_px,
+                     "Line tracks with a larger error are removed, pixels, "
+                     "> 0.");
+  options->AddOption(s + "triangulation_max_error_px",
+                     &o->triangulation_max_error_px,
+                     "point_triangulator's Mapper.filter_max_reproj_error, "
+                     "pixels, > 0.");
+  options->AddOption(s + "prior_position_sigma_m", &o->prior_position_sigma_m,
+                     "Pose prior sigma on the camera centre (the gauge), "
+                     "metres, > 0.");
+  options->AddOption(s + "prior_rotation_sigma_deg",
+                     &o->prior_rotation_sigma_deg,
+                     "RMS angle of the orientation priors, degrees, > 0 "
+                     "(per-axis sigma = this / sqrt(3)).");
+  options->AddOption(s + "max_prior_outlier_ratio",
+                     &o->max_prior_outlier_ratio,
+                     "An iteration leaving more images outside the 99.9 % "
+                     "region of their priors is undone, [0, 1].");
+  // The association thresholds most worth tuning; the others keep their
+  // defaults (see line_matcher).
+  const std::string m = "LineMatching.";
+  options->AddOption(m + "t_theta_deg", &o->matching.t_theta_deg,
+                     "Algorithm 1 t_theta, degrees, (0, 90].");
+  options->AddOption(m + "t_dP_px", &o->matching.t_dP_px,
+                     "Algorithm 1 t_dP, pixels, > 0.");
+  options->AddOption(m + "t_dO_m", &o->matching.t_dO_m,
+                     "Algorithm 1 t_dO, metres, > 0.");
+  options->AddOption(m + "t_LBD", &o->matching.t_LBD,
+                     "Algorithm 1 t_LBD, bits; 256 disables it.");
+  options->AddOption(m + "min_overlap", &o->matching.min_overlap,
+                     "Overlap along the line / shorter segment, [0, 1].");
+  options->AddOption(m + "pose_uncertainty_scale",
+                     &o->matching.pose_uncertainty_scale,
+                     "Thresholds grow by this many pose standard "
+                     "deviations, >= 0.");
+  options->AddOption(m + "min_track_length", &o->matching.min_track_length,
+                     "Tracks with fewer observations are dropped, >= 2.");
+  options->AddCheck([o] { return o->Check(); });
+}
+
+int RunLineBundleAdjuster(int argc, char** argv) {
+  std::string database_path;
+  std::string input_path;
+  std::string output_path;
+  std::string export_ply_path;
+  LineBundleAdjustmentOptions adjustment;
+  AdjustmentNames names;
+
+  OptionManager options;
+  options.AddRequiredOption("database_path", &database_path,
+                            "COLMAP database with ext_line_tracks (from "
+                            "line_matcher) and ext_line_segments.");
+  options.AddRequiredOption("input_path", &input_path,
+                            "Sparse model with the poses (and points3D, "
+                            "e.g. from stock point_triangulator).");
+  options.AddRequiredOption("output_path", &output_path,
+                            "Folder of the refined model (binary, with "
+                            "lines3D.bin).");
+  options.AddOption("export_ply_path", &export_ply_path,
+                    "PLY line set of the refined 3D segments; empty: "
+                    "<output_path>/lines3D.ply.");
+  AddAdjustmentOptions(&adjustment, &names, /*with_gauge_and_priors=*/true,
+                       &options);
+  if (!options.Parse(argc, argv)) {
+    return options.ExitCode();
+  }
+  if (!ExistsFile(database_path)) {
+    LOG(ERROR) << "--database_path " << database_path << " does not exist";
+    return EXIT_FAILURE;
+  }
+  if (!ExistsModel(input_path)) {
+    LOG(ERROR) << "--input_path " << input_path << " holds no sparse model";
+    return EXIT_FAILURE;
+  }
+  Reconstruction model = ReadReconstruction(input_path);
+  const Database database(database_path);
+  if (NumLineTracks(database) == 0) {
+    LOG(ERROR) << "--database_path " << database_path
+               << " holds no line tracks (ext_line_tracks is empty): run "
+                  "line_matcher first";
+    return EXIT_FAILURE;
+  }
+  LineTrackLoadSummary load_summary;
+  std::vector<LineTrack> tracks =
+      LoadLineTracks(database, model, /*min_track_length=*/2, &load_summary);
+  LOG(INFO) << "line_bundle_adjuster: " << load_summary.num_tracks << " of "
+            << load_summary.num_tracks_in_database << " line tracks, "
+            << load_summary.num_observations << " observations ("
+            << load_summary.num_observations_without_image
+            << " of images not in the model dropped)";
+  LineBundleAdjuster adjuster(adjustment);
+  if (adjustment.prior_position_sigma_m > 0.0) {
+    const auto priors = ReadPosePriors(database, model);
+    LOG(INFO) << "line_bundle_adjuster: " << priors.size()
+              << " images with a prior pose";
+    adjuster.SetPosePriors(priors);
+  }
+  const LineBundleAdjustmentSummary summary = adjuster.Solve(&model, &tracks);
+  std::cout << summary.ToString() << std::endl;
+  if (!summary.usable) {
+    LOG(ERROR) << "line_bundle_adjuster: the solution is not usable ("
+               << summary.termination_message << "); nothing written";
+    return EXIT_FAILURE;
+  }
+  SetReconstructionLines(tracks, &model);
+  WriteReconstruction(output_path, model, ModelFormat::kBinary);
+  if (export_ply_path.empty()) {
+    export_ply_path = JoinPaths(output_path, "lines3D.ply");
+  }
+  WriteLines3DPly(export_ply_path, model);
+  std::cout << "Wrote " << model.images.size() << " images, "
+            << model.points3D.size() << " points3D, " << model.lines3D.size()
+            << " lines3D to " << output_path << "; segments to "
+            << export_ply_path << std::endl;
+  return EXIT_SUCCESS;
+}
+
+int RunLidarMapperCommand(int argc, char** argv) {
+  LidarMapperPaths paths;
+  std::string dataset_path;
+  LidarMapperOptions mapper_options;
+  AdjustmentNames names;
+
+  OptionManager options;
+  options.AddRequiredOption("workspace_path", &paths.workspace_path,
+                            "Workspace of lidar_importer (database.db, "
+                            "images/, prior poses).");
+  options.AddOption("dataset_path", &dataset_path,
+                    "Recording to import first when the workspace has no "
+                    "database yet (import -> features -> lines -> "
+                    "association -> adjustment in one command).");
+  options.AddOption("database_path", &paths.database_path,
+                    "Default <workspace>/database.db.");
+  options.AddOption("image_path", &paths.image_path,
+                    "Default <workspace>/images.");
+  options.AddOption("output_path", &paths.output_path,
+                    "Refined model; default <workspace>/sparse/refined.");
+  options.AddOption("export_ply_path", &paths.lines_ply_path,
+                    "PLY of the final 3D segments; default "
+                    "<output_path>/lines3D.ply.");
+  AddLidarMapperOptions(&mapper_options, &options);
+  AddAdjustmentOptions(&mapper_options.adjustment, &names,
+                       /*with_gauge_and_priors=*/false, &options);
+  if (!options.Parse(argc, argv)) {
+    return options.ExitCode();
+  }
+  const std::string database_path =
+      paths.database_path.empty()
+          ? JoinPaths(paths.workspace_path, "database.db")
+          : paths.database_path;
+  if (!ExistsFile(database_path)) {
+    if (dataset_path.empty()) {
+      LOG(ERROR) << "No database " << database_path
+                 << ": run lidar_importer or give --dataset_path";
+      return EXIT_FAILURE;
+    }
+    const ImportSummary import = ImportDataset(
+        dataset_path, paths.workspace_path, database_path, ImporterOptions());
+    std::cout << FormatImportSummary(import) << std::endl;
+    if (paths.image_path.empty()) {
+      paths.image_path = import.image_path;
+    }
+  }
+  const LidarMapperSummary summary = RunLidarMapper(paths, mapper_options);
+  std::cout << summary.Format() << std::endl;
+  return EXIT_SUCCESS;
+}
+
+}  // namespace colmap_lidar
