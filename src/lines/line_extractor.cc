@@ -96,8 +96,6 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
       result.range_noise_m =
           EstimateRangeNoise({scan}, RangeNoiseOptions()).sigma_m;
     }
-    result.plane_lift_result_counts.assign(
-        static_cast<int>(PlaneLiftResult::kBackProjection) + 1, 0);
     for (const LineSegment2D& segment : not_lifted) {
       ViewLineSegment plane_lifted;
       const PlaneLiftResult outcome = LiftSegmentByPlanes(
@@ -105,7 +103,6 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
           options.association.max_reprojection_angle_deg,
           options.association.max_reprojection_distance_px,
           options.association.min_ray_line_angle_deg, &plane_lifted);
-      ++result.plane_lift_result_counts[static_cast<int>(outcome)];
       if (outcome == PlaneLiftResult::kCrease ||
           outcome == PlaneLiftResult::kOcclusion) {
         if (plane_lifted.start3D_in_cam.norm() <=

@@ -60,10 +60,8 @@ struct ViewLines {
   int num_lifted_segments = 0;
   // Why the others were not lifted by edge points, indexed by LiftResult.
   std::vector<int> lift_result_counts;
-  // Of those, lifted by the surfaces on their sides (plane_lifting.h), and
-  // the outcome of that for every one of them, indexed by PlaneLiftResult.
+  // Of those, lifted by the surfaces on their sides (plane_lifting.h).
   int num_plane_lifted_segments = 0;
-  std::vector<int> plane_lift_result_counts;
   // The range noise sigma the plane lifting used, metres.
   double range_noise_m = 0.0;
   // Edge points of the scan and those the camera sees (for the overlay:
