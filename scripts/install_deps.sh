@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package that the build, the tests and a run need,
-# including the stock colmap binary. Idempotent and non-interactive.
+# including the stock colmap binary and clang-14 with libFuzzer for the fuzz
+# targets (scripts/fuzz.sh). Idempotent and non-interactive.
 set -euo pipefail
 
 packages=(
@@ -12,6 +13,7 @@ packages=(
   libsqlite3-dev libyaml-cpp-dev nlohmann-json3-dev
   libboost-program-options-dev libboost-graph-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

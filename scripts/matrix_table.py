@@ -331,6 +331,10 @@ REAL_COLUMNS = [
            lambda r: real(r, "crispness.prior_median_m"), False, cm),
     Column("lidar_near_mesh", "LIDAR within 0.1 m of the mesh %",
            lambda r: real(r, "mesh_vs_lidar.lidar_within_0.1m"), True, pct),
+    Column("lidar_in_view_near_mesh",
+           "LIDAR in the cameras' view (40 m) within 0.1 m of the mesh %",
+           lambda r: real(r, "mesh_vs_lidar.lidar_in_view_within_0.1m"), True,
+           pct),
     Column("mesh_near_lidar", "mesh within 0.1 m of the LIDAR %",
            lambda r: real(r, "mesh_vs_lidar.mesh_within_0.1m"), True, pct),
 ]

@@ -8,7 +8,9 @@
 # Usage: scripts/test_sanitized.sh [ctest args...]   (e.g. -R mvs/)
 # Environment: ASAN_BUILD_DIR (default build-asan), ASAN_JOBS (build and
 # ctest parallelism, default 2), ASAN_TARGETS (build only these targets),
-# CC / CXX (default gcc / g++).
+# ASAN_TESTS (a CTest regex: build only the executables of the matching
+# tests, test_<module>_<name> for the test <module>/<name>, and run only
+# them; scripts/ci_extra.sh uses it), CC / CXX (default gcc / g++).
 # Builds take /tmp/colmap-lidar-build.lock, like every build of this checkout.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,6 +30,20 @@ flock "$lock" cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   > "$build_dir/configure.log" 2>&1 || { cat "$build_dir/configure.log"; exit 1; }
 # ASAN_TARGETS: build only these targets (e.g. the tests of a few modules,
 # then pass the matching -R to ctest); default: everything.
+# ASAN_TESTS: the targets are those of the tests that match the regex.
+ctest_select=()
+if [ -n "${ASAN_TESTS:-}" ]; then
+  ctest_select=(-R "$ASAN_TESTS")
+  names=$(cd "$build_dir" && ctest -N -R "$ASAN_TESTS" | sed -n 's/^ *Test *#[0-9]*: //p')
+  [ -n "$names" ] || { echo "test_sanitized: no test matches '$ASAN_TESTS'" >&2; exit 2; }
+  # Tests without an executable of their own (layers/includes) need none.
+  available=$(cmake --build "$build_dir" --target help | sed -n 's/^\(\.\.\. \)\{0,1\}\(test_[A-Za-z0-9_]*\).*/\2/p')
+  for n in $names; do
+    t="test_${n//\//_}"
+    if grep -qx "$t" <<<"$available"; then ASAN_TARGETS="${ASAN_TARGETS:-} $t"; fi
+  done
+  echo "test_sanitized: $(echo "$names" | wc -l) tests match '$ASAN_TESTS'"
+fi
 flock "$lock" cmake --build "$build_dir" -j"$jobs" ${ASAN_TARGETS:+--target $ASAN_TARGETS} \
   > "$build_dir/sanitized_build.log" 2>&1 ||
   { tail -n 60 "$build_dir/sanitized_build.log"; exit 1; }
@@ -41,7 +57,7 @@ if [ -f tests/sanitizer/lsan.supp ]; then
 fi
 status=0
 (cd "$build_dir" && ctest --output-on-failure -j"$jobs" --timeout 1800 \
-   -E '^pipeline/automatic_reconstructor$' "$@") || status=$?
+   -E '^pipeline/automatic_reconstructor$' "${ctest_select[@]}" "$@") || status=$?
 echo "test_sanitized: tests $(( $(date +%s) - built )) s"
 log="$build_dir/Testing/Temporary/LastTest.log"
 if [ -f "$log" ] && grep -qE 'runtime error:|==[0-9]+==ERROR' "$log"; then

@@ -83,7 +83,7 @@ MeshEvaluation EvaluateMesh(
     const std::vector<Eigen::Vector3i>& triangles,
     const std::vector<Eigen::Vector3d>& reference,
     const std::vector<Eigen::Vector3d>& observed,
-    const MeshEvaluationOptions& options) {
+    const MeshEvaluationOptions& options, const ReferenceSurface* surface) {
   THROW_CHECK(options.Check(), "Invalid MeshEvaluation options");
   THROW_CHECK(!estimate_vertices.empty(), "The estimate has no vertices");
   THROW_CHECK(!reference.empty(), "The reference cloud has no points");
@@ -156,10 +156,20 @@ MeshEvaluation EvaluateMesh(
     }
   }
 
-  // Precision side: estimate points -> full reference.
-  const PointCloudIndex reference_index(reference);
-  evaluation.estimate_distances =
-      reference_index.NearestDistances(evaluation.estimate_points);
+  // Precision side: estimate points -> the true surface when given, else
+  // the full reference cloud.
+  if (surface != nullptr && !surface->triangles.empty()) {
+    CheckFinite(surface->vertices, "Reference surface");
+    const TriangleMeshIndex surface_index(surface->vertices,
+                                          surface->triangles);
+    evaluation.estimate_distances =
+        surface_index.NearestDistances(evaluation.estimate_points);
+    evaluation.precision_to_surface = true;
+  } else {
+    const PointCloudIndex reference_index(reference);
+    evaluation.estimate_distances =
+        reference_index.NearestDistances(evaluation.estimate_points);
+  }
   std::vector<double> accuracy;
   for (size_t i = 0; i < evaluation.estimate_points.size(); ++i) {
     if (evaluation.estimate_in_crop[i]) {
@@ -237,10 +247,29 @@ MeshEvaluation EvaluateMeshFiles(
       point = reference_from_estimate * point;
     }
   }
+  ReferenceSurface surface;
+  if (!options.reference_surface_path.empty()) {
+    const std::string& surface_path = options.reference_surface_path;
+    CheckFileExists(surface_path, "MeshEvaluation.reference_surface_path");
+    const PlyData surface_data = ReadPly(surface_path);
+    surface.vertices = surface_data.Positions(surface_path);
+    surface.triangles = TriangulatePolygons(
+        surface_data.faces, surface.vertices.size(), surface_path);
+    THROW_CHECK(!surface.triangles.empty(),
+                "MeshEvaluation.reference_surface_path "
+                    << surface_path << " has no triangles");
+  }
   LOG(INFO) << "Evaluating " << estimate_path << " (" << vertices.size()
             << " vertices, " << triangles.size() << " triangles) against "
-            << reference_path << " (" << reference.size() << " points)";
-  return EvaluateMesh(vertices, triangles, reference, observed, options);
+            << reference_path << " (" << reference.size() << " points)"
+            << (surface.triangles.empty()
+                    ? std::string()
+                    : ", precision against the surface " +
+                          options.reference_surface_path + " (" +
+                          std::to_string(surface.triangles.size()) +
+                          " triangles)");
+  return EvaluateMesh(vertices, triangles, reference, observed, options,
+                      &surface);
 }
 
 std::string FormatMeshEvaluation(const MeshEvaluation& evaluation) {
@@ -309,6 +338,7 @@ void WriteMeshEvaluationJson(const std::string& path,
   Json json;
   json["evaluator"] = "mesh";
   json["estimate_is_mesh"] = evaluation.estimate_is_mesh;
+  json["precision_to_surface"] = evaluation.precision_to_surface;
   json["estimate_area_m2"] = evaluation.estimate_area_m2;
   json["num_estimate_vertices"] = evaluation.num_estimate_vertices;
   json["num_estimate_triangles"] = evaluation.num_estimate_triangles;

@@ -300,6 +300,67 @@ std::string ErrorOf(const std::function<void()>& body) {
   return "";
 }
 
+// A sparse survey of a plane (0.5 m spacing, as a far, grazing ground) judges
+// an estimate lying exactly on the plane as mostly wrong at 0.1 m; the true
+// surface judges it right and still rejects an estimate 0.2 m off.
+TEST(MeshEvaluator, SparseReferenceAndTrueSurface) {
+  Mesh plane;
+  plane.AddQuad({0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0});
+  std::vector<Eigen::Vector3d> sparse;
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) sparse.emplace_back(0.25 + 0.5 * i, 0.25 + 0.5 * j, 0);
+  }
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.1};
+  const MeshEvaluation to_points =
+      EvaluateMesh(plane.vertices, plane.triangles, sparse, {}, options);
+  EXPECT_FALSE(to_points.precision_to_surface);
+  // Within 0.1 m of a grid point: pi 0.1^2 / 0.25 = 12.6 % of the area.
+  EXPECT_NEAR(to_points.precisions[0], M_PI * 0.01 / 0.25, 0.02);
+  ReferenceSurface surface;
+  surface.vertices = plane.vertices;
+  surface.triangles = plane.triangles;
+  const MeshEvaluation to_surface = EvaluateMesh(
+      plane.vertices, plane.triangles, sparse, {}, options, &surface);
+  EXPECT_TRUE(to_surface.precision_to_surface);
+  EXPECT_DOUBLE_EQ(to_surface.precisions[0], 1.0);
+  EXPECT_LT(to_surface.accuracy_m.max, 1e-9);
+  // Recall still counts the reference points.
+  EXPECT_DOUBLE_EQ(to_surface.recalls[0], to_points.recalls[0]);
+  Mesh lifted;
+  lifted.AddQuad({0, 0, 0.2}, {4, 0, 0.2}, {4, 4, 0.2}, {0, 4, 0.2});
+  const MeshEvaluation off = EvaluateMesh(lifted.vertices, lifted.triangles,
+                                          sparse, {}, options, &surface);
+  EXPECT_DOUBLE_EQ(off.precisions[0], 0.0);
+  EXPECT_NEAR(off.accuracy_m.median, 0.2, 1e-9);
+
+  // The same through files; a missing surface is named.
+  const std::string dir = testing::CreateTestDir();
+  const std::string mesh_path = JoinPaths(dir, "mesh.ply");
+  const std::string reference_path = JoinPaths(dir, "reference.ply");
+  const std::string surface_path = JoinPaths(dir, "scene.ply");
+  WritePoints(mesh_path, {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}},
+              {{0, 1, 2, 3}});
+  WritePoints(surface_path, {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}},
+              {{0, 1, 2, 3}});
+  WritePoints(reference_path, sparse);
+  options.reference_surface_path = surface_path;
+  const MeshEvaluation from_files =
+      EvaluateMeshFiles(mesh_path, reference_path, options);
+  EXPECT_TRUE(from_files.precision_to_surface);
+  EXPECT_DOUBLE_EQ(from_files.precisions[0], 1.0);
+  options.reference_surface_path = JoinPaths(dir, "no_scene.ply");
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(mesh_path, reference_path, options);
+            }).find("no_scene.ply"),
+            std::string::npos);
+  options.reference_surface_path = reference_path;  // Points, no faces.
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(mesh_path, reference_path, options);
+            }).find("has no triangles"),
+            std::string::npos);
+}
+
 TEST(MeshEvaluator, FilesAndErrors) {
   const std::string dir = testing::CreateTestDir();
   const std::string mesh_path = JoinPaths(dir, "mesh.ply");

@@ -100,6 +100,9 @@ bool RealDataEvaluationOptions::Check() const {
   REAL_DATA_CHECK(mesh_sample_density_per_m2 > 0.0,
                   mesh_sample_density_per_m2);
   REAL_DATA_CHECK(max_mesh_samples >= 1000, max_mesh_samples);
+  REAL_DATA_CHECK(mesh_view_max_depth_m > 0.0 &&
+                      std::isfinite(mesh_view_max_depth_m),
+                  mesh_view_max_depth_m);
 #undef REAL_DATA_CHECK
   if (!registration.Check()) {
     return false;
@@ -373,8 +376,12 @@ TrajectoryComparison CompareTrajectoryWithOdometry(
 MeshVsLidar EvaluateMeshVsLidar(const std::vector<Eigen::Vector3d>& vertices,
                                 const std::vector<Eigen::Vector3i>& triangles,
                                 const std::vector<Eigen::Vector3d>& lidar_points,
-                                const RealDataEvaluationOptions& options) {
+                                const RealDataEvaluationOptions& options,
+                                const std::vector<bool>& in_view) {
   THROW_CHECK(options.Check(), "invalid RealDataEvaluation options");
+  THROW_CHECK(in_view.empty() || in_view.size() == lidar_points.size(),
+              "Mesh vs LIDAR: " << in_view.size() << " view flags for "
+                                << lidar_points.size() << " points");
   THROW_CHECK(!triangles.empty(), "Mesh vs LIDAR: the mesh has no triangles");
   THROW_CHECK(!lidar_points.empty(), "Mesh vs LIDAR: no LIDAR points");
   MeshVsLidar result;
@@ -396,11 +403,43 @@ MeshVsLidar EvaluateMeshVsLidar(const std::vector<Eigen::Vector3d>& vertices,
   if (!samples.empty()) {
     mesh_to_lidar = PointCloudIndex(lidar_points).NearestDistances(samples);
   }
+  std::vector<double> in_view_to_mesh;
+  for (size_t i = 0; i < in_view.size(); ++i) {
+    if (in_view[i]) in_view_to_mesh.push_back(lidar_to_mesh[i]);
+  }
+  result.num_lidar_points_in_view = in_view_to_mesh.size();
   for (const double threshold : result.thresholds_m) {
     result.lidar_within.push_back(ShareBelow(lidar_to_mesh, threshold));
     result.mesh_within.push_back(ShareBelow(mesh_to_lidar, threshold));
+    if (!in_view.empty()) {
+      result.lidar_in_view_within.push_back(
+          ShareBelow(in_view_to_mesh, threshold));
+    }
   }
   return result;
+}
+
+std::vector<bool> InCameraView(const Reconstruction& model,
+                               const std::vector<Eigen::Vector3d>& points,
+                               double max_depth_m) {
+  std::vector<bool> in_view(points.size(), false);
+  for (const Image& image : model.images) {
+    const auto camera = model.cameras.find(image.camera_id);
+    if (camera == model.cameras.end()) continue;
+    const double width = static_cast<double>(camera->second.width);
+    const double height = static_cast<double>(camera->second.height);
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (in_view[i]) continue;
+      const Eigen::Vector3d point_in_cam = image.cam_from_world * points[i];
+      if (!(point_in_cam.z() > 0.0 && point_in_cam.z() <= max_depth_m)) {
+        continue;
+      }
+      const Eigen::Vector2d pixel = camera->second.ImgFromCam(point_in_cam);
+      in_view[i] = pixel.x() >= 0.0 && pixel.x() < width && pixel.y() >= 0.0 &&
+                   pixel.y() < height;
+    }
+  }
+  return in_view;
 }
 
 RealDataEvaluation EvaluateRealDataFrames(
@@ -524,8 +563,10 @@ RealDataEvaluation EvaluateRealData(const RealDataEvaluationInput& input,
                    << input.lidar_cloud_path << " (" << lidar_points.size()
                    << " points) is empty; no mesh figures";
     } else {
-      evaluation.mesh_vs_lidar =
-          EvaluateMeshVsLidar(vertices, triangles, lidar_points, options);
+      evaluation.mesh_vs_lidar = EvaluateMeshVsLidar(
+          vertices, triangles, lidar_points, options,
+          InCameraView(refined, lidar_points,
+                       options.mesh_view_max_depth_m));
       evaluation.has_mesh = true;
     }
   }
@@ -582,7 +623,13 @@ void WriteRealDataJson(const std::string& path,
           mesh.lidar_within[t];
       mesh_json[ThresholdKey("mesh_within_", mesh.thresholds_m[t])] =
           mesh.mesh_within[t];
+      if (t < mesh.lidar_in_view_within.size()) {
+        mesh_json[ThresholdKey("lidar_in_view_within_",
+                               mesh.thresholds_m[t])] =
+            mesh.lidar_in_view_within[t];
+      }
     }
+    mesh_json["num_lidar_points_in_view"] = mesh.num_lidar_points_in_view;
     json["mesh_vs_lidar"] = std::move(mesh_json);
   }
   WriteJsonFile(path, json);
@@ -615,7 +662,11 @@ std::string FormatRealDataEvaluation(const RealDataEvaluation& evaluation) {
     text << "; mesh vs LIDAR";
     for (size_t t = 0; t < mesh.thresholds_m.size(); ++t) {
       text << " @" << mesh.thresholds_m[t] << " m: LIDAR "
-           << mesh.lidar_within[t] << ", mesh " << mesh.mesh_within[t];
+           << mesh.lidar_within[t];
+      if (t < mesh.lidar_in_view_within.size()) {
+        text << " (in view " << mesh.lidar_in_view_within[t] << ")";
+      }
+      text << ", mesh " << mesh.mesh_within[t];
     }
   }
   return text.str();

@@ -22,8 +22,9 @@
 //    scans support.
 //  - the mesh against the LIDAR points: share of the fused LIDAR points
 //    (lidar_fused.ply) within t of the mesh surface (exact
-//    point-to-triangle), and share of uniform area samples of the mesh
-//    within t of a LIDAR point.
+//    point-to-triangle), all of them and those in the cameras' view (in a
+//    refined image, at most mesh_view_max_depth_m deep), and share of
+//    uniform area samples of the mesh within t of a LIDAR point.
 //
 // Frames: the refined model's images with a scan in the database's
 // ext_lidar_scans (a relative scan path is relative to the database's
@@ -37,6 +38,7 @@
 
 #include <Eigen/Core>
 
+#include "colmap_ext/scene/reconstruction.h"
 #include "colmap_ext/scene/rigid3.h"
 #include "src/lidar/lidar_scan.h"
 #include "src/lidar/scan_registration.h"
@@ -72,6 +74,11 @@ struct RealDataEvaluationOptions {
   // max_mesh_samples are drawn (>= 1000).
   double mesh_sample_density_per_m2 = 100.0;
   int max_mesh_samples = 2000000;
+  // The LIDAR points "in view" (issue 17's figure): in the image of at least
+  // one refined camera and at most this depth in front of it, metres, > 0.
+  // A spinning LIDAR sees all around and 80 m deep, the cameras a forward
+  // cone: the mesh can only be asked to explain what the cameras saw.
+  double mesh_view_max_depth_m = 40.0;
   int seed = 0;
   // <= 0: all cores.
   int num_threads = -1;
@@ -121,6 +128,9 @@ struct MeshVsLidar {
   // Per threshold.
   std::vector<double> lidar_within;
   std::vector<double> mesh_within;
+  // The same share for the LIDAR points in view (empty without flags).
+  size_t num_lidar_points_in_view = 0;
+  std::vector<double> lidar_in_view_within;
 };
 
 struct RealDataEvaluation {
@@ -169,11 +179,19 @@ TrajectoryComparison CompareTrajectoryWithOdometry(
     const std::vector<RealDataFrame>& frames,
     const RealDataEvaluationOptions& options);
 
-// `triangles` non-empty, `lidar_points` non-empty.
+// `triangles` non-empty, `lidar_points` non-empty. `in_view` (empty: no
+// in-view figures) flags the LIDAR points in view, one per point.
 MeshVsLidar EvaluateMeshVsLidar(const std::vector<Eigen::Vector3d>& vertices,
                                 const std::vector<Eigen::Vector3i>& triangles,
                                 const std::vector<Eigen::Vector3d>& lidar_points,
-                                const RealDataEvaluationOptions& options);
+                                const RealDataEvaluationOptions& options,
+                                const std::vector<bool>& in_view = {});
+
+// Flags the points that project into the image of at least one image of
+// `model` with a depth in (0, max_depth_m] (world frame of the model).
+std::vector<bool> InCameraView(const Reconstruction& model,
+                               const std::vector<Eigen::Vector3d>& points,
+                               double max_depth_m);
 
 // In-memory evaluation of crispness (refined, prior when every frame has
 // one, odometry chain) and trajectory; the mesh part stays empty.

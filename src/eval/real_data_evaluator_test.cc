@@ -157,6 +157,34 @@ TEST(RealDataEvaluator, MeshVsLidarShares) {
   EXPECT_NEAR(result.mesh_within[0], 0.5, 0.03);
   EXPECT_NEAR(result.mesh_within[1], 1.0, 1e-9);
   EXPECT_THROW(EvaluateMeshVsLidar(vertices, {}, lidar, options), Error);
+  EXPECT_TRUE(result.lidar_in_view_within.empty());
+
+  // A camera 5 m above (2.5, 5) looking straight down (53 deg field) sees
+  // x in [0, 5), y in (2.5, 7.5]: 100 x 100 points of the grid, all on the
+  // mesh (the lifted half x >= 5 is outside its image).
+  Reconstruction model;
+  model.cameras[1] = Camera::FromModelName("PINHOLE", 100, 100, {100, 100, 50, 50});
+  Image image;
+  image.image_id = 1;
+  image.camera_id = 1;
+  image.name = "down.png";
+  // Camera z (forward) = world -z, x = world x, y = world -y.
+  image.cam_from_world.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  image.cam_from_world.translation =
+      -(image.cam_from_world.rotation * Eigen::Vector3d(2.5, 5.0, 5.0));
+  model.images.push_back(image);
+  const std::vector<bool> in_view = InCameraView(model, lidar, 20.0);
+  const MeshVsLidar viewed =
+      EvaluateMeshVsLidar(vertices, triangles, lidar, options, in_view);
+  EXPECT_EQ(viewed.num_lidar_points_in_view, 100u * 100u);
+  ASSERT_EQ(viewed.lidar_in_view_within.size(), 2u);
+  EXPECT_DOUBLE_EQ(viewed.lidar_in_view_within[0], 1.0);
+  EXPECT_EQ(InCameraView(model, lidar, 4.0),
+            std::vector<bool>(lidar.size(), false));  // All 5 m deep.
+  EXPECT_THROW(EvaluateMeshVsLidar(vertices, triangles, lidar, options,
+                                   std::vector<bool>(3, true)),
+               Error);
 }
 
 TEST(RealDataEvaluator, WritesTheKeysTheMatrixTableReads) {

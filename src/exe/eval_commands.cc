@@ -76,6 +76,15 @@ void AddMeshEvaluationOptions(MeshEvaluationOptions* evaluation,
                      "Estimate points outside the bounding box of the kept "
                      "reference enlarged by this margin (metres) are "
                      "ignored for precision; < 0 disables the crop.");
+  options->AddOption("MeshEvaluation.reference_surface_path",
+                     &evaluation->reference_surface_path,
+                     "Optional mesh PLY of the true surface (a synthetic "
+                     "scene's ground_truth/scene.ply), in the reference's "
+                     "frame: precision distances are then to this surface "
+                     "instead of to the nearest reference point, which is "
+                     "sparse where the survey grazes. Empty: the reference "
+                     "points. automatic_reconstructor uses the dataset's "
+                     "ground_truth/scene.ply when it exists.");
   options->AddOption("MeshEvaluation.color_threshold_m",
                      &evaluation->color_threshold_m,
                      "Distance shown red in the coloured PLYs, metres; 0: "
@@ -170,6 +179,11 @@ void AddRealDataEvaluationOptions(RealDataEvaluationOptions* evaluation,
   options->AddOption("RealDataEvaluation.max_mesh_samples",
                      &evaluation->max_mesh_samples,
                      "Mesh samples at most, >= 1000.");
+  options->AddOption("RealDataEvaluation.mesh_view_max_depth_m",
+                     &evaluation->mesh_view_max_depth_m,
+                     "LIDAR points in view: in a refined camera's image and "
+                     "at most this deep in front of it, metres, > 0 (the "
+                     "in-view share of LIDAR points near the mesh).");
   options->AddOption("RealDataEvaluation.num_threads",
                      &evaluation->num_threads, "Threads; <= 0: all cores.");
   options->AddCheck([evaluation] { return evaluation->Check(); });

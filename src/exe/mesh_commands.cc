@@ -56,7 +56,14 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
   options->AddOption("DelaunayMeshing.lidar_denoise_max_plane_std_m",
                      &input->lidar_denoising.max_plane_std_m,
                      "A neighbourhood is planar when its standard deviation "
-                     "along the fitted normal is below this, metres, > 0.");
+                     "along the fitted normal is below the larger of this "
+                     "(metres, > 0) and lidar_denoise_plane_std_factor times "
+                     "the median of that deviation (the measured noise).");
+  options->AddOption("DelaunayMeshing.lidar_denoise_plane_std_factor",
+                     &input->lidar_denoising.plane_std_factor,
+                     "Planarity threshold as a multiple of the median "
+                     "deviation across the local planes, >= 0; 0 keeps "
+                     "lidar_denoise_max_plane_std_m alone.");
   options->AddOption("DelaunayMeshing.lidar_denoise_min_neighbors",
                      &input->lidar_denoising.min_neighbors,
                      "Fewest voxels within the radius for a plane fit, >= 3.");

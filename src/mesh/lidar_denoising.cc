@@ -85,6 +85,10 @@ bool LidarDenoisingOptions::Check() const {
     LOG(ERROR) << "LIDAR denoising max_plane_std_m must be > 0";
     return false;
   }
+  if (!(plane_std_factor >= 0) || !std::isfinite(plane_std_factor)) {
+    LOG(ERROR) << "LIDAR denoising plane_std_factor must be >= 0";
+    return false;
+  }
   if (min_neighbors < 3) {
     LOG(ERROR) << "LIDAR denoising min_neighbors must be >= 3";
     return false;
@@ -104,10 +108,14 @@ LidarDenoisingSummary DenoiseLidarVoxels(const LidarDenoisingOptions& options,
   const std::vector<Eigen::Vector3d>& input = *positions;
   const RadiusGrid grid(input, options.radius_m);
   const double sq_radius = options.radius_m * options.radius_m;
-  const double max_variance =
-      options.max_plane_std_m * options.max_plane_std_m;
-  std::vector<Eigen::Vector3d> output(input);
-  std::vector<uint8_t> projected(input.size(), 0);
+  // Pass 1: the plane of every neighbourhood with enough voxels (normal,
+  // offset of the plane from the voxel along it, variance across it).
+  struct LocalPlane {
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    double offset = 0;
+    double variance = -1;  // < 0: too few neighbours.
+  };
+  std::vector<LocalPlane> planes(input.size());
   constexpr int kBlock = 4096;
   const int num_blocks =
       static_cast<int>((input.size() + kBlock - 1) / kBlock);
@@ -133,14 +141,40 @@ LidarDenoisingSummary DenoiseLidarVoxels(const LidarDenoisingOptions& options,
       const Eigen::Matrix3d covariance =
           second / weight_sum - mean * mean.transpose();
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-      if (!(solver.eigenvalues()(0) < max_variance)) continue;
-      const Eigen::Vector3d normal = solver.eigenvectors().col(0);
-      // input[i] is the origin of the offsets: move it onto the plane
-      // through `mean`.
-      output[i] = input[i] + normal * normal.dot(mean);
-      projected[i] = 1;
+      // input[i] is the origin of the offsets: the plane passes through
+      // `mean`.
+      planes[i].normal = solver.eigenvectors().col(0);
+      planes[i].offset = planes[i].normal.dot(mean);
+      planes[i].variance = std::max(0.0, solver.eigenvalues()(0));
     }
   });
+
+  // The threshold from the median deviation (the noise floor).
+  std::vector<double> deviations;
+  deviations.reserve(input.size());
+  for (const LocalPlane& plane : planes) {
+    if (plane.variance >= 0) deviations.push_back(std::sqrt(plane.variance));
+  }
+  if (!deviations.empty()) {
+    auto middle = deviations.begin() + deviations.size() / 2;
+    std::nth_element(deviations.begin(), middle, deviations.end());
+    summary.median_plane_std_m = *middle;
+  }
+  summary.plane_std_threshold_m =
+      std::max(options.max_plane_std_m,
+               options.plane_std_factor * summary.median_plane_std_m);
+  const double max_variance =
+      summary.plane_std_threshold_m * summary.plane_std_threshold_m;
+
+  // Pass 2: projection of the voxels whose neighbourhood is planar.
+  std::vector<Eigen::Vector3d> output(input);
+  std::vector<uint8_t> projected(input.size(), 0);
+  for (size_t i = 0; i < input.size(); ++i) {
+    const LocalPlane& plane = planes[i];
+    if (!(plane.variance >= 0 && plane.variance < max_variance)) continue;
+    output[i] = input[i] + plane.normal * plane.offset;
+    projected[i] = 1;
+  }
   double displacement_sum = 0;
   for (size_t i = 0; i < input.size(); ++i) {
     if (!projected[i]) continue;
@@ -153,8 +187,12 @@ LidarDenoisingSummary DenoiseLidarVoxels(const LidarDenoisingOptions& options,
   *positions = std::move(output);
   LOG(INFO) << "LIDAR denoising: " << summary.num_projected << " of "
             << input.size() << " voxels projected onto their local plane (r "
-            << options.radius_m << " m), mean displacement "
-            << summary.mean_displacement_m << " m";
+            << options.radius_m << " m, planar below "
+            << summary.plane_std_threshold_m << " m = max("
+            << options.max_plane_std_m << ", " << options.plane_std_factor
+            << " x median " << summary.median_plane_std_m
+            << " m)), mean displacement " << summary.mean_displacement_m
+            << " m";
   return summary;
 }
 

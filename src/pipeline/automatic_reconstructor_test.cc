@@ -95,6 +95,8 @@ TEST(AutomaticReconstructor, SmallSceneEndToEnd) {
             << fscores[2] << " " << fscores[3] << " " << fscores[4];
   EXPECT_GT(fscores[4], 0.8);
   EXPECT_GT(fscores[2], 0.5);
+  // The synthetic recording's true surface judges precision.
+  EXPECT_TRUE(mesh_json.at("precision_to_surface").get<bool>());
   EXPECT_TRUE(ExistsFile(JoinPaths(paths.eval, "mesh_lidar_poisson.json")));
   EXPECT_TRUE(ExistsFile(JoinPaths(paths.eval, "trajectories.csv")));
 
