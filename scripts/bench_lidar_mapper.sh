@@ -10,9 +10,10 @@
 # Usage: bash scripts/bench_lidar_mapper.sh [--dataset DIR] [--work DIR]
 #          [--init mapper|priors] [--exhaustive_max N] [--overlap N]
 #          [--reuse_matches DB] [--no-write] [-- extra lidar_mapper options]
-# Default dataset: /work/data/quad_v2 if present, else one synthesised into
-# the work folder. --reuse_matches copies a database that already holds the
-# features and matches of the same dataset (skips SIFT and matching; the
+# Default dataset: bench_work/quad_v2 (relative to the checkout), the default
+# synthetic scene; if it is missing the script prints the synthesize command
+# that makes it and exits 1. --reuse_matches copies a database that already
+# holds the features and matches of the same dataset (skips SIFT and matching; the
 # times then cover the rest only). Writes docs/benchmarks/lidar_mapper.md
 # unless --no-write. Times: wall and CPU (user + system, all processes) of
 # the lidar_mapper command, from /usr/bin/time; CPU time is the figure to
@@ -41,16 +42,28 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ -x "$bin" ] || { echo "build first: bash scripts/build.sh" >&2; exit 1; }
-mkdir -p "$work"
+default_dataset=bench_work/quad_v2
+synthesize_args="synthesize --output_path $default_dataset --Synthesis.preset quad --Synthesis.num_frames 60 --Synthesis.seed 0"
 if [ -z "$dataset" ]; then
-  if [ -f /work/data/quad_v2/calibration.yaml ]; then
-    dataset=/work/data/quad_v2
-  else
-    dataset="$work/dataset"
-    [ -f "$dataset/calibration.yaml" ] || "$bin" synthesize --output_path "$dataset"
-  fi
+  dataset=$default_dataset
+  [ -f "$dataset/calibration.yaml" ] || {
+    echo "no default dataset at $dataset (calibration.yaml missing); make it with" >&2
+    echo "  $bin $synthesize_args" >&2
+    echo "or pass --dataset DIR" >&2
+    exit 1
+  }
 fi
 [ -f "$dataset/calibration.yaml" ] || { echo "no calibration.yaml in $dataset" >&2; exit 1; }
+mkdir -p "$work"
+# The dataset as the docs page names it: the synthesize command for the
+# default scene, else its path relative to the checkout (no machine path).
+if [ "$(realpath "$dataset")" = "$(realpath -m "$default_dataset")" ]; then
+  dataset_label="\`$default_dataset\`, made by \`colmap-lidar $synthesize_args\` (preset quad, 60 frames, seed 0)"
+elif [ "$(realpath --relative-base=. "$dataset")" != "$(realpath "$dataset")" ]; then
+  dataset_label="\`$(realpath --relative-base=. "$dataset")\`"
+else
+  dataset_label="\`$(basename "$(realpath "$dataset")")\` (a folder outside the checkout)"
+fi
 ws="$work/workspace"
 rm -rf "$ws"
 if [ -n "$reuse" ]; then
@@ -101,7 +114,7 @@ if [ "$write" = 1 ]; then
     echo "# lidar_mapper on the default synthetic scene"
     echo
     echo "Produced by \`bash scripts/bench_lidar_mapper.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores."
-    echo "Dataset: \`$dataset\` (priors with 0.5 m / 5 deg noise). Time: the whole command"
+    echo "Dataset: $dataset_label (priors with 0.5 m / 5 deg noise). Time: the whole command"
     echo "(import, SIFT, matching, lines, initialisation, iterations), wall / CPU seconds; $solve;"
     echo "$cpu_stages."
     echo

@@ -9,6 +9,7 @@
 # segment was made from) and the association time.
 #
 # Usage: scripts/bench_line_matching.sh [WORK_DIR] [extra line_matcher args]
+# WORK_DIR defaults to bench_work/line_matching in the checkout.
 # Env: COLMAP_LIDAR (default build/colmap-lidar), NUM_FRAMES (default 60),
 #      NUM_THREADS (default 2), DATASET (an existing synthetic dataset to use),
 #      SEGMENTS=extractor (default: line_extractor) | gt (the crease edges as
@@ -18,7 +19,7 @@ set -euo pipefail
 
 SOURCE_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="${COLMAP_LIDAR:-${SOURCE_DIR}/build/colmap-lidar}"
-WORK="${1:-/tmp/bench_line_matching}"
+WORK="${1:-${SOURCE_DIR}/bench_work/line_matching}"
 shift || true
 NUM_FRAMES="${NUM_FRAMES:-60}"
 NUM_THREADS="${NUM_THREADS:-2}"

@@ -22,7 +22,8 @@
 # Also times a one-thread extraction run (CPU and wall seconds per frame,
 # everything included).
 #   build_dir defaults to build, num_frames (synthesis only) to 20, work_dir
-#   to a temp folder. The old positional form
+#   to bench_work/lines in the checkout (a re-run reuses its synthesised
+#   dataset when the frame count matches). The old positional form
 #   `bench_lines.sh [build_dir] [num_frames] [work_dir]` still works.
 set -euo pipefail
 
@@ -46,10 +47,11 @@ done
 [[ ${#POSITIONAL[@]} -ge 1 ]] && BUILD_DIR=${POSITIONAL[0]}
 [[ ${#POSITIONAL[@]} -ge 2 ]] && NUM_FRAMES=${POSITIONAL[1]}
 [[ ${#POSITIONAL[@]} -ge 3 ]] && WORK_DIR=${POSITIONAL[2]}
-WORK_DIR=${WORK_DIR:-$(mktemp -d /tmp/bench_lines.XXXXXX)}
 BIN="${BUILD_DIR}/colmap-lidar"
 [[ -x "${BIN}" ]] || { echo "ERROR: ${BIN} not found; build first" >&2; exit 1; }
 SCRIPT_DIR=$(cd "$(dirname "$0")" && pwd)
+SOURCE_DIR=$(cd "${SCRIPT_DIR}/.." && pwd)
+WORK_DIR=${WORK_DIR:-${SOURCE_DIR}/bench_work/lines}
 
 mkdir -p "${WORK_DIR}"
 WORK_DIR=$(cd "${WORK_DIR}" && pwd)
@@ -60,10 +62,11 @@ LOG="${WORK_DIR}/log.txt"
 
 if [[ -z "${SOURCE_DATASET}" ]]; then
   SOURCE_DATASET="${WORK_DIR}/synthesized"
-  if [[ ! -f "${SOURCE_DATASET}/poses_gt.txt" ]]; then
+  if [[ ! -f "${SOURCE_DATASET}/poses_gt.txt" ]] ||
+     [[ "$(ls "${SOURCE_DATASET}/images" | wc -l)" != "${NUM_FRAMES}" ]]; then
     echo "== Synthesising ${NUM_FRAMES} frames into ${SOURCE_DATASET}"
     "${BIN}" synthesize --output_path "${SOURCE_DATASET}" \
-      --Synthesis.num_frames "${NUM_FRAMES}" >> "${LOG}" 2>&1
+      --Synthesis.num_frames "${NUM_FRAMES}" --Synthesis.overwrite 1 >> "${LOG}" 2>&1
   fi
 fi
 SOURCE_DATASET=$(cd "${SOURCE_DATASET}" && pwd)
@@ -72,6 +75,11 @@ for f in calibration.yaml poses_gt.txt ground_truth/crease_edges.txt; do
     { echo "ERROR: ${SOURCE_DATASET}/${f} not found" >&2; exit 1; }
 done
 NUM_FRAMES=$(ls "${SOURCE_DATASET}/images" | wc -l)
+# The dataset as lines_table.md names it: relative to the checkout, or its
+# base name when it lies outside (no path of this machine in the docs).
+DATASET_LABEL=$(realpath --relative-base="${SOURCE_DIR}" "${SOURCE_DATASET}")
+[[ "${DATASET_LABEL}" == /* ]] &&
+  DATASET_LABEL="$(basename "${SOURCE_DATASET}") (outside the checkout)"
 
 # The work dataset links the source's files; its priors are the ground
 # truth, so sparse/prior is the ground-truth model the segments are placed
@@ -130,7 +138,7 @@ echo "== Crease edges observed by both sensors"
   --output_path "${WORK_DIR}/line_evaluation_observed.json" 2>> "${LOG}" \
   >> "${LOG}"
 
-/usr/bin/python3 - "${WORK_DIR}" "${NUM_FRAMES}" "${SOURCE_DATASET}" <<'EOF' \
+/usr/bin/python3 - "${WORK_DIR}" "${NUM_FRAMES}" "${DATASET_LABEL}" <<'EOF' \
   | tee "${WORK_DIR}/lines_table.md"
 import json, re, sys
 work, num_frames, dataset = sys.argv[1], int(sys.argv[2]), sys.argv[3]

@@ -37,6 +37,10 @@
 #          [--poisson_depth D] [--poisson_trim_quantile Q] [--lidar_covisibility_weight W]
 #          [--fusion_min_num_pixels N]
 #          [--fresh] [--no-write] [--doc docs/benchmarks/NAME.md]
+# Default dataset: bench_work/quad_v2 (relative to the checkout), the default
+# synthetic scene; if it is missing the script prints the synthesize command
+# that makes it and exits 1. The docs page names the dataset and the poses by
+# that command or by paths relative to the checkout, never by a machine path.
 set -euo pipefail
 # The whole script is one function, parsed before it runs, so that editing
 # the file during a long run does not change the running instance.
@@ -45,7 +49,9 @@ cd "$(dirname "$0")/.."
 repo=$(pwd)
 bin="${COLMAP_LIDAR_BIN:-build/colmap-lidar}"
 py=/usr/bin/python3  # Debian's python3 with python3-numpy / python3-matplotlib.
-dataset=/work/data/quad_v2
+default_dataset=bench_work/quad_v2
+synthesize_args="synthesize --output_path $default_dataset --Synthesis.preset quad --Synthesis.num_frames 60 --Synthesis.seed 0"
+dataset=$default_dataset
 work=bench_work/meshing
 model=""
 frame_step=2
@@ -81,19 +87,45 @@ while [ $# -gt 0 ]; do
 done
 [ -x "$bin" ] || { echo "build first: bash scripts/build.sh (or set COLMAP_LIDAR_BIN)" >&2; exit 1; }
 bin=$(realpath "$bin")
+if [ "$dataset" = "$default_dataset" ] && [ ! -f "$dataset/calibration.yaml" ]; then
+  echo "no default dataset at $dataset (calibration.yaml missing); make it with" >&2
+  echo "  $bin $synthesize_args" >&2
+  echo "or pass --dataset DIR" >&2
+  exit 1
+fi
 [ -f "$dataset/calibration.yaml" ] || { echo "no dataset at $dataset (calibration.yaml missing)" >&2; exit 1; }
 [ -f "$dataset/reference.ply" ] || { echo "no $dataset/reference.ply" >&2; exit 1; }
 dataset=$(realpath "$dataset")
 [ -n "$model" ] || model="$dataset/poses_gt.txt"
 model=$(realpath "$model")
-pose_label="ground truth ($model)"
+# doc_path PATH: PATH as the docs page names it: inside the dataset as
+# <dataset>/..., else relative to the checkout, or its base name when it lies
+# outside (no path of this machine).
+dataset_doc=""
+doc_path() {
+  local rel
+  if [ -n "$dataset_doc" ] && [ "${1#"$dataset"/}" != "$1" ]; then
+    echo "$dataset_doc/${1#"$dataset"/}"; return
+  fi
+  rel=$(realpath -m --relative-base="$repo" "$1")
+  if [ "${rel#/}" = "$rel" ]; then echo "$rel"; else echo "$(basename "$1") (outside the checkout)"; fi
+}
+if [ "$dataset" = "$(realpath -m "$repo/$default_dataset")" ]; then
+  dataset_doc=$default_dataset
+  dataset_label="\`$default_dataset\`, made by \`colmap-lidar $synthesize_args\` (preset quad, 60 frames, seed 0)"
+else
+  dataset_label="\`$(doc_path "$dataset")\`"
+  dataset_doc=$(doc_path "$dataset")
+  dataset_doc=${dataset_doc% (outside the checkout)}
+fi
+pose_label="ground truth (\`$(doc_path "$model")\`)"
 # Meshes built on other poses (e.g. lidar_mapper's refined model) are
 # carried into the ground-truth frame by the se3 fit of their camera centres
 # before the evaluation: their world frame is only known to the accuracy of
 # the priors' mean (the gauge), which the table would otherwise measure.
 alignment_args=()
 if [ "$model" != "$dataset/poses_gt.txt" ]; then
-  pose_label="$model (meshes aligned to the ground truth by the se3 fit of these poses)"
+  pose_label="\`$(doc_path "$model")\` (meshes aligned to the ground truth by the se3 fit of these poses)"
 fi
 [ "$fresh" = 1 ] && rm -rf "$work"
 mkdir -p "$work/logs" "$work/times"
@@ -304,7 +336,7 @@ if [ "$write" = 1 ]; then
     echo "Produced by \`bash scripts/bench_meshing_table.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores,"
     echo "with \`$(basename "$bin") $("$bin" version 2>/dev/null | head -n 1 | sed 's/^colmap-lidar //')\`."
     echo
-    echo "- Dataset: \`$dataset\` ($(ls "$dataset/images" | wc -l) frames), **$num_frames frames used** (every ${frame_step}th)."
+    echo "- Dataset: $dataset_label ($(ls "$dataset/images" | wc -l) frames), **$num_frames frames used** (every ${frame_step}th)."
     echo "- **Poses: $pose_label**, the same for every method."
     echo "- Reference: the dataset's \`reference.ply\` (simulated survey). Recall counts only the reference"
     echo "  points within 0.2 m of the registered LIDAR cloud \`lidar_fused.ply\` (what the recording's"

@@ -8,11 +8,15 @@
 #
 #   scripts/bench_patch_match.sh [BUILD_DIR] [DATASET_DIR] [NUM_FRAMES]
 #
+# DATASET_DIR defaults to bench_work/patch_match in the checkout (relative
+# paths are taken from the current folder).
+#
 # Extra options for experiments: BENCH_SET="lidar_prior_weight=0,..." (see
 # benchmarks/bench_patch_match.cc).
 set -euo pipefail
 build_dir=${1:-build}
-dataset=${2:-/tmp/colmap_lidar_bench_patch_match}
+source_dir=$(cd "$(dirname "$0")/.." && pwd)
+dataset=${2:-$source_dir/bench_work/patch_match}
 num_frames=${3:-12}
 if [[ ! -f "$dataset/poses_gt.txt" ]]; then
   "$build_dir/colmap-lidar" synthesize --output_path "$dataset" \
@@ -21,7 +25,11 @@ if [[ ! -f "$dataset/poses_gt.txt" ]]; then
 fi
 echo "Date: $(date -u '+%Y-%m-%d %H:%M UTC'); $(nproc) cores; load average" \
   "at start: $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "Dataset: $dataset; options: ${BENCH_SET:-defaults}"
+# The dataset as the docs table names it: relative to the checkout (no path
+# of this machine), else as given.
+label=$(realpath -m --relative-base="$source_dir" "$dataset")
+[[ "$label" == /* ]] && label=$dataset
+echo "Dataset: $label; options: ${BENCH_SET:-defaults}"
 /usr/bin/time -v "$build_dir/benchmarks/bench_patch_match" "$dataset" 3 6 \
   2> >(grep -E "Maximum resident|Elapsed" >&2)
 echo "Load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"
