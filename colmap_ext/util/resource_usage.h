@@ -10,6 +10,8 @@
 // RUSAGE_CHILDREN peak cannot be reset.
 #pragma once
 
+#include <chrono>
+
 #include <cstddef>
 
 namespace colmap_lidar {
@@ -30,6 +32,13 @@ bool ResetPeakMemory();
 size_t ChildPeakMemoryBytes();
 // Called with a finished child's ru_maxrss converted to bytes.
 void RecordChildPeakMemory(size_t bytes);
+
+// Wall seconds since `start` (steady clock).
+inline double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                       start)
+      .count();
+}
 
 // Measures from construction: wall and CPU seconds, and (after
 // ResetPeakMemory() in the constructor) the peak of this process and of its

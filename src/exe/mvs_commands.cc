@@ -100,6 +100,12 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      &o->interpolation_max_depth_ratio,
                      "Delaunay triangles with a larger depth ratio use the "
                      "nearest vertex's plane, > 1.");
+  options->AddOption(s + "interpolation_max_edge_factor",
+                     &o->interpolation_max_edge_factor,
+                     "A triangle of LIDAR samples whose longest 3D edge over "
+                     "its depth exceeds this times the view's median is not "
+                     "interpolated (space the LIDAR did not sample, e.g. "
+                     "sky between wall tops), >= 0; 0: all are.");
   options->AddOption(s + "min_depth", &o->min_depth,
                      "LIDAR and feature depths below this are ignored, "
                      "metres, > 0.");

@@ -123,5 +123,50 @@ TEST(DepthInit, FeaturesOverrideLidarAndInterpolationFillsThePlane) {
   EXPECT_GT(num_checked, 4000u);
 }
 
+// LIDAR samples every 4 px on two blocks of the plane z = 3 (columns 0-20
+// and 60-79), nothing between (sky between two walls): the hull's triangles
+// across the 40 px gap subtend ten times the sampling and are left
+// uninterpolated; with interpolation_max_edge_factor 0 they bridge it.
+TEST(DepthInit, InterpolationDoesNotBridgeUnsampledSpace) {
+  const int width = 80, height = 60;
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  const MvsView view = MakeMvsView("v", K, Rigid3d(), width, height,
+                                   std::vector<float>(width * height, 0.5f));
+  std::vector<Eigen::Vector3f> points, normals;
+  for (int r = 0; r < height; r += 4) {
+    for (int c = 0; c < width; c += 4) {
+      if (c > 20 && c < 60) continue;
+      const Eigen::Vector3d ray = K.inverse() * Eigen::Vector3d(c, r, 1);
+      points.push_back((3.0 * ray).cast<float>());
+      normals.emplace_back(0, 0, -1);
+    }
+  }
+  LidarPatchMatchOptions options;
+  const std::vector<DepthSample> lidar =
+      ProjectLidarSamples(view, points, normals, options);
+  ASSERT_EQ(lidar.size(), points.size());
+  auto count_valid = [&](const PlaneMap& map, int col_begin, int col_end) {
+    size_t num_valid = 0;
+    for (int r = 0; r <= 56; ++r) {
+      for (int c = col_begin; c <= col_end; ++c) {
+        const size_t i = map.Index(r, c);
+        if (map.depth[i] > 0) {
+          ++num_valid;
+          EXPECT_NEAR(map.depth[i], 3.0, 1e-3);
+        }
+      }
+    }
+    return num_valid;
+  };
+  const PlaneMap cut = InterpolateSamples(view, lidar, options);
+  EXPECT_EQ(count_valid(cut, 0, 20), 57u * 21u);  // Inside the blocks.
+  EXPECT_EQ(count_valid(cut, 25, 55), 0u);       // The gap stays open.
+  options.interpolation_max_edge_factor = 0;
+  const PlaneMap bridged = InterpolateSamples(view, lidar, options);
+  EXPECT_EQ(count_valid(bridged, 25, 55), 57u * 31u);
+  options.interpolation_max_edge_factor = -1;
+  EXPECT_FALSE(options.Check());
+}
+
 }  // namespace
 }  // namespace colmap_lidar

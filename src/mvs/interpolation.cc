@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include <opencv2/imgproc.hpp>
@@ -39,11 +40,45 @@ PlaneMap InterpolateSamples(const MvsView& view,
     const auto it = pixel_to_sample.find(key);
     return it == pixel_to_sample.end() ? nullptr : &samples[it->second];
   };
+  // The angle a triangle of LIDAR samples subtends: its longest 3D edge over
+  // its mean depth; -1 when a vertex is a feature or missing.
+  auto lidar_extent = [&](const DepthSample* const* v) -> float {
+    if (!v[0] || !v[1] || !v[2]) return -1.0f;
+    Eigen::Vector3f p[3];
+    for (int k = 0; k < 3; ++k) {
+      if (v[k]->from_feature) return -1.0f;
+      p[k] = v[k]->depth * view.Ray(static_cast<float>(v[k]->row),
+                                    static_cast<float>(v[k]->col));
+    }
+    const float longest = std::max({(p[0] - p[1]).norm(),
+                                    (p[1] - p[2]).norm(),
+                                    (p[2] - p[0]).norm()});
+    return 3.0f * longest / (v[0]->depth + v[1]->depth + v[2]->depth);
+  };
+  float max_extent = std::numeric_limits<float>::infinity();
+  if (options.interpolation_max_edge_factor > 0) {
+    std::vector<float> extents;
+    extents.reserve(triangles.size());
+    for (const cv::Vec6f& triangle : triangles) {
+      const DepthSample* v[3] = {sample_at(triangle[0], triangle[1]),
+                                 sample_at(triangle[2], triangle[3]),
+                                 sample_at(triangle[4], triangle[5])};
+      const float extent = lidar_extent(v);
+      if (extent >= 0) extents.push_back(extent);
+    }
+    if (!extents.empty()) {
+      auto middle = extents.begin() + extents.size() / 2;
+      std::nth_element(extents.begin(), middle, extents.end());
+      max_extent = static_cast<float>(options.interpolation_max_edge_factor) *
+                   *middle;
+    }
+  }
   for (const cv::Vec6f& triangle : triangles) {
     const DepthSample* v[3] = {sample_at(triangle[0], triangle[1]),
                                sample_at(triangle[2], triangle[3]),
                                sample_at(triangle[4], triangle[5])};
     if (!v[0] || !v[1] || !v[2]) continue;
+    if (lidar_extent(v) > max_extent) continue;  // Not a sampled surface.
     const float x0 = v[0]->col, y0 = v[0]->row;
     const float x1 = v[1]->col, y1 = v[1]->row;
     const float x2 = v[2]->col, y2 = v[2]->row;

@@ -6,6 +6,13 @@
 // interpolation_max_depth_ratio, in which case each pixel takes the plane of
 // its nearest vertex so that depth edges are not smeared. Pixels outside
 // the convex hull stay invalid (depth 0): PatchMatch starts them randomly.
+// So do the pixels of a triangle of three LIDAR samples that spans space the
+// LIDAR did not sample: its longest 3D edge over its mean depth (the angle
+// it subtends) exceeds interpolation_max_edge_factor times the median of
+// that ratio over the view's LIDAR triangles (the scanner's sampling as this
+// view sees it). Without this test the hull bridges, e.g., the tops of a
+// corridor's two walls across the sky, and the LIDAR prior then keeps sky
+// pixels at that invented depth (a lid in the mesh).
 #pragma once
 
 #include <vector>

@@ -1,5 +1,7 @@
 #include "src/mvs/patch_match_options.h"
 
+#include <cmath>
+
 #include <glog/logging.h>
 
 namespace colmap_lidar {
@@ -48,6 +50,10 @@ bool LidarPatchMatchOptions::Check() const {
   }
   if (!(occlusion_relative_tolerance >= 0)) {
     return Fail("occlusion_relative_tolerance must be >= 0");
+  }
+  if (!(interpolation_max_edge_factor >= 0) ||
+      !std::isfinite(interpolation_max_edge_factor)) {
+    return Fail("interpolation_max_edge_factor must be >= 0");
   }
   if (!(interpolation_max_depth_ratio > 1)) {
     return Fail("interpolation_max_depth_ratio must be > 1");

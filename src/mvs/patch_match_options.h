@@ -69,6 +69,12 @@ struct LidarPatchMatchOptions {
   // than this ratio takes each pixel from its nearest vertex's plane
   // instead (no smearing across depth edges), > 1.
   double interpolation_max_depth_ratio = 1.2;
+  // A triangle of three LIDAR samples whose longest 3D edge, over its mean
+  // depth, exceeds this factor times the median of that ratio over the
+  // view's LIDAR triangles is left uninterpolated: it spans space the LIDAR
+  // did not sample (sky between two wall tops, a gap between buildings), not
+  // a surface. >= 0; 0 interpolates every triangle.
+  double interpolation_max_edge_factor = 5.0;
   // LIDAR points nearer than this to the camera are ignored, metres.
   double min_depth = 0.1;
 

@@ -21,15 +21,6 @@
 #include "src/sfm/stock_colmap_steps.h"
 
 namespace colmap_lidar {
-namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                       start)
-      .count();
-}
-
-}  // namespace
 
 bool LidarMapperOptions::Check() const {
 #define LIDAR_MAPPER_CHECK(cond, name)                              \

@@ -12,6 +12,7 @@
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/resource_usage.h"
 #include "src/lidar/gicp_helpers.h"
 #include "src/lidar/scan_io.h"
 
@@ -23,11 +24,6 @@ constexpr double kPi = 3.14159265358979323846;
 // residual exceeds it after the solve is reported as downweighted.
 constexpr double kChi2Dof6Quantile999 = 22.458;
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                       start)
-      .count();
-}
 
 double AngleDeg(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return a.normalized().angularDistance(b.normalized()) * 180.0 / kPi;

@@ -9,6 +9,7 @@
 
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/resource_usage.h"
 #include "src/optim/line_bundle_adjustment.h"
 #include "src/optim/line_track.h"
 #include "src/sfm/association_step.h"
@@ -17,15 +18,6 @@
 #include "src/sfm/stock_colmap_steps.h"
 
 namespace colmap_lidar {
-namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                       start)
-      .count();
-}
-
-}  // namespace
 
 void RunMapperIterations(const ColmapRunner& colmap,
                          const LidarMapperPaths& paths,
