@@ -3,7 +3,8 @@
 # from real files: the KITTI raw sample in ../shared and a tiny scene made by
 # `colmap-lidar synthesize` (4 frames, 160x120, 16 rings, depth maps). Large
 # files are shrunk by tests/fuzz/make_seeds.cc (a few records re-encoded by
-# our writers), so every seed stays a few KB.
+# our writers), so every seed stays a few KB. Minimised inputs that once
+# crashed a reader, tests/fuzz/corpus/<target>/regression_*, are kept.
 #
 # Usage: scripts/fuzz_corpus.sh
 # Needs build/colmap-lidar (scripts/build.sh) and the fuzz build
@@ -27,6 +28,11 @@ build/colmap-lidar synthesize --output_path "$work/scene" \
 
 rm -rf tests/fuzz/corpus.new
 "$build_dir/tests/fuzz/fuzz_make_seeds" tests/fuzz/corpus.new "$kitti" "$work/scene"
+# Inputs that once crashed a reader (regression_*, minimised) are kept.
+if [ -d tests/fuzz/corpus ]; then
+  (cd tests/fuzz/corpus &&
+   find . -type f -name 'regression_*' -exec cp --parents {} ../corpus.new/ \;)
+fi
 rm -rf tests/fuzz/corpus
 mv tests/fuzz/corpus.new tests/fuzz/corpus
 find tests/fuzz/corpus -type f -size +100k -print -exec false {} + ||

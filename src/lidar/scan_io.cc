@@ -329,9 +329,17 @@ LidarScan ReadPcdScan(const std::string& path) {
               "LIDAR scan " << path << " has no points");
   pcl::PCLPointCloud2 cloud;
   pcl::PCDReader reader;
-  THROW_CHECK(reader.read(path, cloud) >= 0,
-              "Cannot parse PCD file " << path
-                                       << " (see PCL's message above)");
+  // PCL's header parser indexes its token lists with .at(), so a header
+  // that CheckPcdHeader accepts can still make it throw std::out_of_range
+  // (found by fuzz_pcd); report that as the file's fault, not a crash.
+  int read_status = -1;
+  try {
+    read_status = reader.read(path, cloud);
+  } catch (const std::exception& e) {
+    THROW_ERROR("Cannot parse PCD file " << path << ": " << e.what());
+  }
+  THROW_CHECK(read_status >= 0, "Cannot parse PCD file "
+                                    << path << " (see PCL's message above)");
   const pcl::PCLPointField* xyz[3] = {FindPclField(cloud, "x"),
                                       FindPclField(cloud, "y"),
                                       FindPclField(cloud, "z")};

@@ -337,6 +337,20 @@ TEST(ScanIo, OtherErrorsNameTheFile) {
   EXPECT_NE(message.find(truncated_pcd), std::string::npos) << message;
   EXPECT_NE(message.find("truncated"), std::string::npos) << message;
 
+  // A header that passes our check but makes PCL's parser throw
+  // std::out_of_range (found by fuzz_pcd, minimised): an error naming the
+  // file, not a crash.
+  const std::string bad_header_pcd = JoinPaths(dir, "bad_header.pcd");
+  const std::string bad_header =
+      "FIELDS x y z y\nSIZE 4 4 4 4\nTYPE F F 1 2\nWIDTH 48\nHEIGHT 1\n"
+      "POINTS 48\nDATA ascii\nDATA089\nWIDTH 48\nHEIGHT 1\nVIEP0001\n"
+      "0000001\n0000001\n0000001\n0.100000001\n0000001\n00001\n\n"
+      "1.720001\n -1.727.100000001\n00000010000001\n0000001\n0.100000001\n"
+      "0000001\n0000001\n0000001\n0.100000001\n0000001\n";
+  WriteBytes(bad_header_pcd, bad_header);
+  message = ErrorMessage([&] { ReadLidarScan(bad_header_pcd); });
+  EXPECT_NE(message.find(bad_header_pcd), std::string::npos) << message;
+
   const std::string empty_pcd = JoinPaths(dir, "empty.pcd");
   WriteLidarScanPcd(empty_pcd, LidarScan());
   EXPECT_EQ(CountLidarScanPoints(empty_pcd), 0u);
