@@ -184,6 +184,30 @@ def mesh_nolines(run, threshold):
         threshold)
 
 
+def edge_region(path, threshold, field):
+    evaluation = load_json(path)
+    if not evaluation or "edge_region" not in evaluation:
+        return None
+    region = dict(evaluation["edge_region"])
+    region["thresholds_m"] = evaluation["thresholds_m"]
+    return at_threshold(region, field, threshold)
+
+
+def mesh_edge(run, name, threshold, field):
+    """Figures within 0.2 m of the true creases (src/eval/edge_region.h)."""
+    path = (f"{run}/matrix/nolines_eval/mesh_ours.json" if name == "nolines"
+            else f"{run}/ws/eval/mesh_{name}.json")
+    return edge_region(path, threshold, field)
+
+
+def edge_line_gain(run, threshold):
+    ours = mesh_edge(run, "ours", threshold, "precision")
+    nolines = mesh_edge(run, "nolines", threshold, "precision")
+    if ours is None or nolines is None:
+        return None
+    return ours - nolines
+
+
 def mesh_gain(run, threshold):
     ours = mesh(run, "ours", threshold)
     lidar = mesh(run, "lidar_poisson", threshold)
@@ -306,6 +330,22 @@ for t in (0.05, 0.1):
                           lambda v: f"{v:+.3f}"))
 COLUMNS.append(Column("p_ours_0.5", "precision ours @0.5 m",
                       lambda r: mesh(r, "ours", 0.5, "precision"), True, f3))
+# Near the creases (0.2 m of a ground-truth crease edge): where the line
+# samples are meant to help (issue 17's edge-region target).
+for name, title in (("ours", "ours"), ("nolines", "ours, no lines"),
+                    ("lidar_poisson", "LIDAR-only")):
+    COLUMNS.append(Column(f"edge_p_{name}_0.05",
+                          f"edge region: precision {title} @0.05 m",
+                          lambda r, n=name: mesh_edge(r, n, 0.05, "precision"),
+                          True, f3))
+    COLUMNS.append(Column(f"edge_f_{name}_0.1",
+                          f"edge region: F {title} @0.1 m",
+                          lambda r, n=name: mesh_edge(r, n, 0.1, "fscore"),
+                          True, f3))
+COLUMNS.append(Column("edge_p_line_gain_0.05",
+                      "edge region: precision with lines - without @0.05 m",
+                      lambda r: edge_line_gain(r, 0.05), True,
+                      lambda v: f"{v:+.3f}"))
 for name, stages in (("sfm", ("sfm",)),
                      ("dense", ("dense", "patch_match", "fusion")),
                      ("mesh", ("mesh",)), ("total", None)):

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/ply.h"
 
 namespace colmap_lidar {
 namespace testing {
@@ -56,6 +57,26 @@ int RunCommand(const std::string& command_line, const std::string& log_path) {
     return -1;
   }
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+void WriteXyzPly(const std::string& path,
+                 const std::vector<Eigen::Vector3d>& points,
+                 const std::vector<std::vector<uint32_t>>& faces) {
+  std::vector<double> x, y, z;
+  x.reserve(points.size());
+  y.reserve(points.size());
+  z.reserve(points.size());
+  for (const Eigen::Vector3d& point : points) {
+    x.push_back(point.x());
+    y.push_back(point.y());
+    z.push_back(point.z());
+  }
+  PlyData data;
+  data.AddColumn("x", PlyScalarType::kFloat64, x);
+  data.AddColumn("y", PlyScalarType::kFloat64, y);
+  data.AddColumn("z", PlyScalarType::kFloat64, z);
+  data.faces = faces;
+  WritePly(path, data);
 }
 
 }  // namespace testing

@@ -2,7 +2,11 @@
 // colmap binary and a fresh temporary folder are.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 namespace colmap_lidar {
 namespace testing {
@@ -21,6 +25,11 @@ std::string CreateTestDir();
 // to `log_path` when not empty.
 int RunCommand(const std::string& command_line,
                const std::string& log_path = "");
+// Writes `points` as a binary PLY with float64 x, y, z and, if given, the
+// faces (vertex indices) as its face element.
+void WriteXyzPly(const std::string& path,
+                 const std::vector<Eigen::Vector3d>& points,
+                 const std::vector<std::vector<uint32_t>>& faces = {});
 
 }  // namespace testing
 }  // namespace colmap_lidar

@@ -11,6 +11,7 @@
 #include "src/eval/distance_colormap.h"
 #include "src/eval/mesh_sampling.h"
 #include "src/eval/nearest_neighbor.h"
+#include "src/eval/segment_io.h"
 
 namespace colmap_lidar {
 namespace {
@@ -56,6 +57,11 @@ bool MeshEvaluationOptions::Check() const {
     LOG(ERROR) << "MeshEvaluation.color_threshold_m must be >= 0 (0: auto), "
                   "got "
                << color_threshold_m;
+    ok = false;
+  }
+  if (!(edge_region_radius_m > 0.0) || !std::isfinite(edge_region_radius_m)) {
+    LOG(ERROR) << "MeshEvaluation.edge_region_radius_m must be positive, got "
+               << edge_region_radius_m;
     ok = false;
   }
   if (seed < 0) {
@@ -268,8 +274,23 @@ MeshEvaluation EvaluateMeshFiles(
                           options.reference_surface_path + " (" +
                           std::to_string(surface.triangles.size()) +
                           " triangles)");
-  return EvaluateMesh(vertices, triangles, reference, observed, options,
-                      &surface);
+  std::vector<Segment3D> edges;
+  if (!options.edge_region_path.empty()) {
+    CheckFileExists(options.edge_region_path,
+                    "MeshEvaluation.edge_region_path");
+    edges = ReadSegments(options.edge_region_path);
+    THROW_CHECK(!edges.empty(), "MeshEvaluation.edge_region_path "
+                                    << options.edge_region_path
+                                    << " holds no segments");
+  }
+  MeshEvaluation evaluation = EvaluateMesh(vertices, triangles, reference,
+                                           observed, options, &surface);
+  if (!edges.empty()) {
+    evaluation.edge_region =
+        EvaluateEdgeRegion(evaluation, edges, options.edge_region_radius_m);
+    evaluation.has_edge_region = true;
+  }
+  return evaluation;
 }
 
 std::string FormatMeshEvaluation(const MeshEvaluation& evaluation) {
@@ -316,6 +337,21 @@ std::string FormatMeshEvaluation(const MeshEvaluation& evaluation) {
                   evaluation.recalls[k], evaluation.fscores[k]);
     out << line;
   }
+  if (evaluation.has_edge_region) {
+    const EdgeRegionEvaluation& region = evaluation.edge_region;
+    std::snprintf(line, sizeof(line),
+                  "  edge region (%g m around %zu creases): %zu samples, "
+                  "%zu reference points\n",
+                  region.radius_m, region.num_edges,
+                  region.num_estimate_points, region.num_reference_points);
+    out << line;
+    for (size_t k = 0; k < region.thresholds_m.size(); ++k) {
+      std::snprintf(line, sizeof(line), "  %14g %10.4f %10.4f %10.4f\n",
+                    region.thresholds_m[k], region.precisions[k],
+                    region.recalls[k], region.fscores[k]);
+      out << line;
+    }
+  }
   return out.str();
 }
 
@@ -355,6 +391,20 @@ void WriteMeshEvaluationJson(const std::string& path,
   json["recall"] = evaluation.recalls;
   json["fscore"] = evaluation.fscores;
   json["color_threshold_m"] = evaluation.color_threshold_m;
+  if (evaluation.has_edge_region) {
+    const EdgeRegionEvaluation& region = evaluation.edge_region;
+    Json edge_json;
+    edge_json["radius_m"] = region.radius_m;
+    edge_json["num_edges"] = region.num_edges;
+    edge_json["num_estimate_points"] = region.num_estimate_points;
+    edge_json["num_reference_points"] = region.num_reference_points;
+    edge_json["accuracy_m"] = StatsToJson(region.accuracy_m);
+    edge_json["completeness_m"] = StatsToJson(region.completeness_m);
+    edge_json["precision"] = region.precisions;
+    edge_json["recall"] = region.recalls;
+    edge_json["fscore"] = region.fscores;
+    json["edge_region"] = edge_json;
+  }
   WriteJsonFile(path, json);
 }
 

@@ -30,6 +30,10 @@
 // surface is known (a synthetic scene's ground_truth/scene.ply),
 // reference_surface_path makes the precision distances exact distances to
 // that surface; recall still counts the reference points.
+// Edge region: with edge_region_path (the scene's crease edges, e.g. a
+// synthetic scene's ground_truth/crease_edges.txt, in the reference's
+// frame), the same figures are also given for the points within
+// edge_region_radius_m of a crease (src/eval/edge_region.h).
 #pragma once
 
 #include <cstdint>
@@ -39,6 +43,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "src/eval/edge_region.h"
 #include "src/eval/eval_stats.h"
 
 namespace colmap_lidar {
@@ -64,6 +69,12 @@ struct MeshEvaluationOptions {
   // set, precision distances are to this surface instead of to the nearest
   // reference point (see above). Empty: the reference points.
   std::string reference_surface_path = "";
+  // Optional file of crease edges (any format of ReadSegments, e.g.
+  // ground_truth/crease_edges.txt), in the reference's frame; when set the
+  // figures are also reported for the region near them. Empty: none.
+  std::string edge_region_path = "";
+  // Radius of that region around each edge (metres, > 0).
+  double edge_region_radius_m = 0.2;
   // Distance shown red in the coloured PLYs (metres); 0 picks the largest
   // threshold <= 0.1 m, or the smallest threshold when all exceed 0.1 m.
   double color_threshold_m = 0.0;
@@ -108,6 +119,9 @@ struct MeshEvaluation {
   ErrorStats accuracy_m;
   ErrorStats completeness_m;
   double color_threshold_m = 0.1;
+  // Figures near the crease edges (options.edge_region_path).
+  bool has_edge_region = false;
+  EdgeRegionEvaluation edge_region;
 };
 
 // The true surface for the precision side (reference frame).
@@ -130,7 +144,8 @@ MeshEvaluation EvaluateMesh(const std::vector<Eigen::Vector3d>& estimate_vertice
 
 // Reads the PLYs (estimate mesh or cloud, reference cloud and, if set,
 // options.observed_cloud_path and options.reference_surface_path) and
-// evaluates. Errors name the file.
+// evaluates; with options.edge_region_path, reads the edges and adds the
+// edge region's figures. Errors name the file.
 // `reference_from_estimate` maps the estimate and the observed cloud (both
 // in the reconstruction's world frame) into the reference's frame before
 // the comparison: a reconstruction from noisy priors has a gauge (a rigid

@@ -274,23 +274,6 @@ TEST(MeshEvaluator, PointCloudEstimateAndColouredPly) {
   EXPECT_NE(table.find("precision"), std::string::npos) << table;
 }
 
-void WritePoints(const std::string& path,
-                 const std::vector<Eigen::Vector3d>& points,
-                 const std::vector<std::vector<uint32_t>>& faces = {}) {
-  std::vector<double> x, y, z;
-  for (const Eigen::Vector3d& p : points) {
-    x.push_back(p.x());
-    y.push_back(p.y());
-    z.push_back(p.z());
-  }
-  PlyData data;
-  data.AddColumn("x", PlyScalarType::kFloat64, x);
-  data.AddColumn("y", PlyScalarType::kFloat64, y);
-  data.AddColumn("z", PlyScalarType::kFloat64, z);
-  data.faces = faces;
-  WritePly(path, data);
-}
-
 std::string ErrorOf(const std::function<void()>& body) {
   try {
     body();
@@ -308,7 +291,9 @@ TEST(MeshEvaluator, SparseReferenceAndTrueSurface) {
   plane.AddQuad({0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0});
   std::vector<Eigen::Vector3d> sparse;
   for (int i = 0; i < 8; ++i) {
-    for (int j = 0; j < 8; ++j) sparse.emplace_back(0.25 + 0.5 * i, 0.25 + 0.5 * j, 0);
+    for (int j = 0; j < 8; ++j) {
+      sparse.emplace_back(0.25 + 0.5 * i, 0.25 + 0.5 * j, 0);
+    }
   }
   MeshEvaluationOptions options;
   options.thresholds_m = {0.1};
@@ -339,11 +324,13 @@ TEST(MeshEvaluator, SparseReferenceAndTrueSurface) {
   const std::string mesh_path = JoinPaths(dir, "mesh.ply");
   const std::string reference_path = JoinPaths(dir, "reference.ply");
   const std::string surface_path = JoinPaths(dir, "scene.ply");
-  WritePoints(mesh_path, {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}},
-              {{0, 1, 2, 3}});
-  WritePoints(surface_path, {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}},
-              {{0, 1, 2, 3}});
-  WritePoints(reference_path, sparse);
+  testing::WriteXyzPly(mesh_path,
+                       {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}},
+                       {{0, 1, 2, 3}});
+  testing::WriteXyzPly(surface_path,
+                       {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}},
+                       {{0, 1, 2, 3}});
+  testing::WriteXyzPly(reference_path, sparse);
   options.reference_surface_path = surface_path;
   const MeshEvaluation from_files =
       EvaluateMeshFiles(mesh_path, reference_path, options);
@@ -367,11 +354,12 @@ TEST(MeshEvaluator, FilesAndErrors) {
   const std::string reference_path = JoinPaths(dir, "reference.ply");
   const std::string empty_path = JoinPaths(dir, "empty.ply");
   const std::string nan_path = JoinPaths(dir, "nan.ply");
-  WritePoints(mesh_path, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},
-              {{0, 1, 2, 3}});
-  WritePoints(reference_path, SquareGrid(0, 0, 0.03, 50));
-  WritePoints(empty_path, {});
-  WritePoints(nan_path, {{0, 0, 0}, {NAN, 0, 0}});
+  testing::WriteXyzPly(mesh_path,
+                       {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},
+                       {{0, 1, 2, 3}});
+  testing::WriteXyzPly(reference_path, SquareGrid(0, 0, 0.03, 50));
+  testing::WriteXyzPly(empty_path, {});
+  testing::WriteXyzPly(nan_path, {{0, 0, 0}, {NAN, 0, 0}});
 
   MeshEvaluationOptions options;
   options.thresholds_m = {0.02, 0.05};
@@ -433,16 +421,16 @@ TEST(MeshEvaluator, AlignmentCarriesEstimateAndObservedCloud) {
   const std::string mesh_path = JoinPaths(dir, "mesh.ply");
   const std::string reference_path = JoinPaths(dir, "reference.ply");
   const std::string observed_path = JoinPaths(dir, "observed.ply");
-  WritePoints(mesh_path, corners, {{0, 1, 2, 3}});
+  testing::WriteXyzPly(mesh_path, corners, {{0, 1, 2, 3}});
   const std::vector<Eigen::Vector3d> reference = SquareGrid(0, 0, 0, 50);
-  WritePoints(reference_path, reference);
+  testing::WriteXyzPly(reference_path, reference);
   // The observed cloud covers the left half of the square, in the
   // estimate's frame.
   std::vector<Eigen::Vector3d> observed;
   for (const Eigen::Vector3d& point : reference) {
     if (point.x() < 0.5) observed.push_back(estimate_from_reference * point);
   }
-  WritePoints(observed_path, observed);
+  testing::WriteXyzPly(observed_path, observed);
 
   MeshEvaluationOptions options;
   options.thresholds_m = {0.02, 0.05};

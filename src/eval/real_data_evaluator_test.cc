@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -9,9 +10,15 @@
 
 #include <gtest/gtest.h>
 
+#include "colmap_ext/database/database.h"
+#include "colmap_ext/model/model_io.h"
+#include "colmap_ext/util/file.h"
 #include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
+#include "colmap_ext/util/testing.h"
 #include "src/lidar/lidar_test_scene.h"
+#include "src/lidar/scan_io.h"
 
 namespace colmap_lidar {
 namespace {
@@ -163,7 +170,8 @@ TEST(RealDataEvaluator, MeshVsLidarShares) {
   // x in [0, 5), y in (2.5, 7.5]: 100 x 100 points of the grid, all on the
   // mesh (the lifted half x >= 5 is outside its image).
   Reconstruction model;
-  model.cameras[1] = Camera::FromModelName("PINHOLE", 100, 100, {100, 100, 50, 50});
+  model.cameras[1] =
+      Camera::FromModelName("PINHOLE", 100, 100, {100, 100, 50, 50});
   Image image;
   image.image_id = 1;
   image.camera_id = 1;
@@ -236,6 +244,208 @@ TEST(RealDataEvaluator, WritesTheKeysTheMatrixTableReads) {
   EXPECT_EQ(mesh.at("lidar_within_0.5m"), 0.5);
   EXPECT_EQ(mesh.at("mesh_within_0.5m"), 1.0);
   EXPECT_FALSE(FormatRealDataEvaluation(evaluation).empty());
+}
+
+// The camera looks along the LIDAR's x (forward), 20 cm above and 10 cm
+// behind it: cam x = -lidar y, cam y = -lidar z, cam z = lidar x.
+Rigid3d CamFromLidar() {
+  Eigen::Matrix3d rotation;
+  rotation << 0, -1, 0, 0, 0, -1, 1, 0, 0;
+  Rigid3d cam_from_lidar;
+  cam_from_lidar.rotation = Eigen::Quaterniond(rotation);
+  cam_from_lidar.translation = Eigen::Vector3d(0.0, 0.2, -0.1);
+  return cam_from_lidar;
+}
+
+std::string ErrorOf(const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+// What EvaluateRealData reads, written into a workspace folder: the
+// recording's scans as PLYs under lidar/ (paths relative to the database),
+// the database (images, ext_lidar_scans with cam_from_lidar), the refined
+// and prior models (images posed as camera = LIDAR pose * lidar_from_cam),
+// a ground-plane mesh (z = -1.7, the street scene's ground, x in [-10, 30],
+// y in [-10, 10]) and a LIDAR cloud on it for x < 10 and 0.3 m above it
+// beyond. The refined model also has an image without a scan (skipped).
+struct RealDataFiles {
+  std::string dir;
+  std::vector<Eigen::Vector3d> mesh_vertices;
+  std::vector<Eigen::Vector3i> mesh_triangles;
+  std::vector<Eigen::Vector3d> lidar_cloud;
+  RealDataEvaluationInput input;
+};
+
+RealDataFiles WriteRealDataFiles(const Recording& recording) {
+  const std::string dir = testing::CreateTestDir();
+  CreateDirIfNotExists(JoinPaths(dir, "lidar"));
+  RealDataFiles files;
+  files.dir = dir;
+  RealDataEvaluationInput& input = files.input;
+  input.database_path = JoinPaths(dir, "database.db");
+  input.prior_model_path = JoinPaths(dir, "sparse/prior");
+  input.refined_model_path = JoinPaths(dir, "sparse/refined");
+  input.mesh_path = JoinPaths(dir, "mesh.ply");
+  input.lidar_cloud_path = JoinPaths(dir, "lidar_fused.ply");
+
+  Database database(input.database_path);
+  Camera camera =
+      Camera::FromModelName("PINHOLE", 200, 100, {100, 100, 100, 50});
+  camera.camera_id = database.WriteCamera(camera);
+  Reconstruction refined;
+  refined.cameras[camera.camera_id] = camera;
+  Reconstruction prior = refined;
+  const size_t num_frames = recording.frames.size();
+  for (size_t k = 0; k <= num_frames; ++k) {
+    DatabaseImage db_image;
+    db_image.image_id = static_cast<image_t>(k + 1);
+    db_image.name = "00000" + std::to_string(k) + ".png";
+    db_image.camera_id = camera.camera_id;
+    database.WriteImage(db_image);
+    Image image;
+    image.image_id = db_image.image_id;
+    image.camera_id = camera.camera_id;
+    image.name = db_image.name;
+    if (k == num_frames) {
+      // Registered, but without a scan.
+      refined.images.push_back(image);
+      break;
+    }
+    const RealDataFrame& frame = recording.frames[k];
+    const std::string relative_path =
+        "lidar/00000" + std::to_string(k) + ".ply";
+    WriteLidarScanPly(JoinPaths(dir, relative_path), *frame.scan);
+    LidarScanRecord record;
+    record.image_id = db_image.image_id;
+    record.path = relative_path;
+    record.num_points = frame.scan->size();
+    record.cam_from_lidar = CamFromLidar();
+    database.WriteLidarScan(record);
+    image.cam_from_world =
+        CamFromLidar() * frame.refined_world_from_lidar.Inverse();
+    refined.images.push_back(image);
+    image.cam_from_world =
+        CamFromLidar() * frame.prior_world_from_lidar.Inverse();
+    prior.images.push_back(image);
+  }
+  WriteReconstruction(input.refined_model_path, refined, ModelFormat::kBinary);
+  WriteReconstruction(input.prior_model_path, prior, ModelFormat::kBinary);
+
+  files.mesh_vertices = {
+      {-10, -10, -1.7}, {30, -10, -1.7}, {30, 10, -1.7}, {-10, 10, -1.7}};
+  files.mesh_triangles = {{0, 1, 2}, {0, 2, 3}};
+  testing::WriteXyzPly(input.mesh_path, files.mesh_vertices,
+                       {{0, 1, 2}, {0, 2, 3}});
+  for (double x = -9.9; x < 30.0; x += 0.2) {
+    for (double y = -9.9; y < 10.0; y += 0.2) {
+      files.lidar_cloud.emplace_back(x, y, x < 10.0 ? -1.7 : -1.4);
+    }
+  }
+  testing::WriteXyzPly(input.lidar_cloud_path, files.lidar_cloud);
+  return files;
+}
+
+// The workspace-level entry reads the scans, poses and mesh back and gives
+// the figures of the frames-level evaluation of the same recording, and
+// the mesh figures of the cloud it was given; a missing or corrupt input
+// is named.
+TEST(RealDataEvaluator, ReadsTheWorkspaceFilesAndNamesABadOne) {
+  const Recording recording = MakeRecording(3);
+  const RealDataFiles files = WriteRealDataFiles(recording);
+  RealDataEvaluationOptions options = TestOptions();
+  const RealDataEvaluation in_memory =
+      EvaluateRealDataFrames(recording.frames, options);
+  const RealDataEvaluation evaluation = EvaluateRealData(files.input, options);
+
+  EXPECT_EQ(evaluation.num_frames, 3u);  // Not the image without a scan.
+  EXPECT_TRUE(evaluation.has_prior);
+  ASSERT_TRUE(evaluation.has_trajectory);
+  EXPECT_EQ(evaluation.crispness_voxel_size_m,
+            in_memory.crispness_voxel_size_m);
+  EXPECT_EQ(evaluation.refined_crispness.num_queries,
+            in_memory.refined_crispness.num_queries);
+  EXPECT_NEAR(evaluation.refined_crispness.median_m,
+              in_memory.refined_crispness.median_m, 1e-6);
+  EXPECT_NEAR(evaluation.prior_crispness.median_m,
+              in_memory.prior_crispness.median_m, 1e-6);
+  EXPECT_LT(evaluation.refined_crispness.median_m, 0.02);
+  // Priors 0.2-0.3 m off: fewer planes found than with the true poses.
+  EXPECT_LT(evaluation.prior_crispness.coverage,
+            evaluation.refined_crispness.coverage);
+  EXPECT_EQ(evaluation.trajectory.num_steps, 2u);
+  EXPECT_NEAR(evaluation.trajectory.refined_length_m,
+              in_memory.trajectory.refined_length_m, 1e-9);
+  EXPECT_NEAR(evaluation.trajectory.length_ratio, 1.0, 0.01);
+  EXPECT_EQ(evaluation.trajectory.step_frames[0], "000000.png");
+
+  // The mesh figures: those of the in-memory function on the same data,
+  // with the cameras' view of the refined model.
+  ASSERT_TRUE(evaluation.has_mesh);
+  const MeshVsLidar direct = EvaluateMeshVsLidar(
+      files.mesh_vertices, files.mesh_triangles, files.lidar_cloud, options,
+      InCameraView(ReadReconstruction(files.input.refined_model_path),
+                   files.lidar_cloud, options.mesh_view_max_depth_m));
+  const MeshVsLidar& mesh = evaluation.mesh_vs_lidar;
+  EXPECT_EQ(mesh.num_lidar_points, files.lidar_cloud.size());
+  EXPECT_EQ(mesh.lidar_within, direct.lidar_within);
+  EXPECT_EQ(mesh.mesh_within, direct.mesh_within);
+  EXPECT_EQ(mesh.num_lidar_points_in_view, direct.num_lidar_points_in_view);
+  EXPECT_GT(mesh.num_lidar_points_in_view, 0u);
+  EXPECT_LT(mesh.num_lidar_points_in_view, mesh.num_lidar_points);
+  EXPECT_EQ(mesh.lidar_in_view_within, direct.lidar_in_view_within);
+  // The cloud lies on the mesh for x < 10 (half of it), 0.3 m off beyond.
+  ASSERT_EQ(mesh.thresholds_m, std::vector<double>({0.1, 0.5}));
+  EXPECT_NEAR(mesh.lidar_within[0], 0.5, 0.01);
+  EXPECT_DOUBLE_EQ(mesh.lidar_within[1], 1.0);
+  EXPECT_NEAR(mesh.mesh_area_m2, 800.0, 1e-9);
+
+  // Without the cloud (or the mesh): no mesh figures.
+  RealDataEvaluationInput input = files.input;
+  input.lidar_cloud_path = JoinPaths(testing::CreateTestDir(), "none.ply");
+  EXPECT_FALSE(EvaluateRealData(input, options).has_mesh);
+
+  // Missing inputs.
+  input = files.input;
+  input.database_path = JoinPaths(testing::CreateTestDir(), "none.db");
+  EXPECT_NE(ErrorOf([&] { EvaluateRealData(input, options); }).find("none.db"),
+            std::string::npos);
+  input = files.input;
+  input.refined_model_path = JoinPaths(testing::CreateTestDir(), "none");
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateRealData(input, options);
+            }).find("No refined model in " + input.refined_model_path),
+            std::string::npos);
+  // Only one frame has a scan when the model is the prior's first image.
+  input = files.input;
+  Reconstruction one = ReadReconstruction(files.input.prior_model_path);
+  one.images.resize(1);
+  input.refined_model_path = JoinPaths(testing::CreateTestDir(), "one");
+  WriteReconstruction(input.refined_model_path, one, ModelFormat::kBinary);
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateRealData(input, options);
+            }).find("1 images of the refined model"),
+            std::string::npos);
+  options.crispness_radius_voxels = 1.0;
+  EXPECT_THROW(EvaluateRealData(files.input, options), Error);
+
+  // Corrupt files: a scan, then the mesh (read after the scans' figures).
+  const RealDataEvaluationOptions valid = TestOptions();
+  const std::string scan_path = JoinPaths(files.dir, "lidar/000001.ply");
+  std::ofstream(scan_path) << "ply\nformat ascii 1.0\nelement vertex 2\n";
+  EXPECT_NE(
+      ErrorOf([&] { EvaluateRealData(files.input, valid); }).find("000001.ply"),
+      std::string::npos);
+  WriteLidarScanPly(scan_path, *recording.frames[1].scan);
+  std::ofstream(files.input.mesh_path) << "ply\nformat ascii 1.0\nelement";
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateRealData(files.input, valid);
+            }).find(files.input.mesh_path),
+            std::string::npos);
 }
 
 TEST(RealDataEvaluator, RejectsBadOptions) {

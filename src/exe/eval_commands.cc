@@ -12,6 +12,7 @@
 #include "src/dataset/poses.h"
 #include "src/eval/depth_evaluator.h"
 #include "src/eval/line_evaluator.h"
+#include "src/eval/mesh_evaluation_job.h"
 #include "src/eval/mesh_evaluator.h"
 #include "src/eval/mesh_icp.h"
 #include "src/eval/pose_evaluator.h"
@@ -85,6 +86,20 @@ void AddMeshEvaluationOptions(MeshEvaluationOptions* evaluation,
                      "sparse where the survey grazes. Empty: the reference "
                      "points. automatic_reconstructor uses the dataset's "
                      "ground_truth/scene.ply when it exists.");
+  options->AddOption("MeshEvaluation.edge_region_path",
+                     &evaluation->edge_region_path,
+                     "Optional file of crease edges (x1 y1 z1 x2 y2 z2 per "
+                     "line, e.g. a synthetic scene's "
+                     "ground_truth/crease_edges.txt, or a segment PLY), in "
+                     "the reference's frame: the figures are also reported "
+                     "for the samples and reference points within "
+                     "edge_region_radius_m of an edge. Empty: none. "
+                     "automatic_reconstructor uses the dataset's "
+                     "ground_truth/crease_edges.txt when it exists.");
+  options->AddOption("MeshEvaluation.edge_region_radius_m",
+                     &evaluation->edge_region_radius_m,
+                     "Radius of the edge region around each edge, metres, "
+                     "> 0.");
   options->AddOption("MeshEvaluation.color_threshold_m",
                      &evaluation->color_threshold_m,
                      "Distance shown red in the coloured PLYs, metres; 0: "
@@ -253,36 +268,23 @@ int RunPoseEvaluator(int argc, char** argv) {
 }
 
 int RunMeshEvaluator(int argc, char** argv) {
-  std::string input_path;
-  std::string reference_path;
-  std::string output_path;
-  std::string colored_path;
-  std::string colored_reference_path;
-  std::string alignment = "none";
-  std::string alignment_model_path;
-  std::string ground_truth_poses_path;
-  double axes_weight = 1.0;
-  bool icp = false;
-  std::string icp_output_path;
-  MeshEvaluationOptions evaluation_options;
-  MeshIcpOptions icp_options;
-
+  MeshEvaluationJob job;
   OptionManager options;
-  options.AddRequiredOption("input_path", &input_path,
+  options.AddRequiredOption("input_path", &job.input_path,
                             "Estimated mesh PLY (faces are sampled) or point "
                             "cloud PLY (no faces: its vertices are used).");
-  options.AddRequiredOption("reference_path", &reference_path,
+  options.AddRequiredOption("reference_path", &job.reference_path,
                             "Reference point cloud PLY (same world frame, "
                             "metres).");
-  options.AddOption("output_path", &output_path,
+  options.AddOption("output_path", &job.output_path,
                     "JSON report to write; empty: none.");
-  options.AddOption("colored_path", &colored_path,
+  options.AddOption("colored_path", &job.colored_path,
                     "PLY of the estimate points coloured by distance to the "
                     "reference (precision view); empty: none.");
-  options.AddOption("colored_reference_path", &colored_reference_path,
+  options.AddOption("colored_reference_path", &job.colored_reference_path,
                     "PLY of the reference points coloured by distance to "
                     "the estimate (recall view); empty: none.");
-  options.AddOption("alignment", &alignment,
+  options.AddOption("alignment", &job.alignment,
                     "none | se3 | sim3 | se3_axes | sim3_axes: before the "
                     "comparison, the estimate (and the observed cloud) are "
                     "carried into the reference's frame by the fit of "
@@ -292,103 +294,32 @@ int RunMeshEvaluator(int argc, char** argv) {
                     "(*_axes, as Tanks and Temples) on the centres and "
                     "orientations, which fixes the roll about a straight "
                     "trajectory.");
-  options.AddOption("axes_weight", &axes_weight,
+  options.AddOption("axes_weight", &job.axes_weight,
                     "*_axes only: weight of the orientations against the "
                     "centres, >= 0 (see pose_evaluator).");
-  options.AddOption("icp", &icp,
+  options.AddOption("icp", &job.icp,
                     "Then refine the alignment by ICP of the mesh against "
                     "the reference ([MeshIcp]) and report the figures after "
                     "it too.");
-  options.AddOption("icp_output_path", &icp_output_path,
+  options.AddOption("icp_output_path", &job.icp_output_path,
                     "JSON report after ICP; empty: output_path with _icp "
                     "before .json (none without output_path).");
-  options.AddOption("alignment_model_path", &alignment_model_path,
+  options.AddOption("alignment_model_path", &job.alignment_model_path,
                     "Sparse model whose poses the estimate was built with; "
                     "needed unless alignment is none.");
-  options.AddOption("ground_truth_poses_path", &ground_truth_poses_path,
+  options.AddOption("ground_truth_poses_path", &job.ground_truth_poses_path,
                     "Ground-truth poses (poses_gt.txt layout); needed "
                     "unless alignment is none.");
-  AddMeshEvaluationOptions(&evaluation_options, &options);
-  AddMeshIcpOptions(&icp_options, &options);
+  AddMeshEvaluationOptions(&job.evaluation_options, &options);
+  AddMeshIcpOptions(&job.icp_options, &options);
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
   }
-  if (!IsPoseAlignment(alignment)) {
-    LOG(ERROR) << "--alignment must be none, se3, sim3, se3_axes or "
-                  "sim3_axes, got '"
-               << alignment << "'";
+  if (!job.Check()) {
     return EXIT_FAILURE;
   }
-  if (!(axes_weight >= 0.0)) {
-    LOG(ERROR) << "--axes_weight must be >= 0, got " << axes_weight;
-    return EXIT_FAILURE;
-  }
-  std::vector<std::pair<std::string, std::string>> required_files = {
-      {"--input_path", input_path}, {"--reference_path", reference_path}};
-  if (alignment != "none") {
-    required_files.emplace_back("--ground_truth_poses_path",
-                                ground_truth_poses_path);
-    if (!ExistsDir(alignment_model_path)) {
-      LOG(ERROR) << "--alignment " << alignment
-                 << " needs --alignment_model_path, a sparse model folder; "
-                    "got '"
-                 << alignment_model_path << "'";
-      return EXIT_FAILURE;
-    }
-  }
-  for (const auto& [name, path] : required_files) {
-    if (!ExistsFile(path)) {
-      LOG(ERROR) << name << " '" << path << "' does not exist";
-      return EXIT_FAILURE;
-    }
-  }
-
-  Eigen::Affine3d reference_from_estimate = Eigen::Affine3d::Identity();
-  if (alignment != "none") {
-    PoseEvaluationOptions pose_options;
-    pose_options.alignment = alignment;
-    pose_options.axes_weight = axes_weight;
-    const PoseEvaluation poses =
-        EvaluatePoses(ReadReconstruction(alignment_model_path),
-                      ReadPoses(ground_truth_poses_path), pose_options);
-    reference_from_estimate = GroundTruthFromEstimate(poses);
-    LOG(INFO) << "Aligned (" << alignment << ") by " << poses.num_matched
-              << " camera centres, mean residual "
-              << poses.position_stats_m.mean << " m";
-  }
-  const MeshEvaluation evaluation = EvaluateMeshFiles(
-      input_path, reference_path, evaluation_options, reference_from_estimate);
-  std::cout << FormatMeshEvaluation(evaluation) << std::flush;
-  if (!output_path.empty()) {
-    WriteMeshEvaluationJson(output_path, evaluation);
-  }
-  if (!colored_path.empty()) {
-    WritePrecisionColoredPly(colored_path, evaluation);
-  }
-  if (!colored_reference_path.empty()) {
-    WriteRecallColoredPly(colored_reference_path, evaluation);
-  }
-  if (icp) {
-    const MeshIcpResult refinement = RefineMeshAlignmentIcpFiles(
-        input_path, reference_path, reference_from_estimate,
-        evaluation_options.ColorThreshold(), evaluation_options.crop_margin_m,
-        icp_options);
-    const MeshEvaluation refined = EvaluateMeshFiles(
-        input_path, reference_path, evaluation_options,
-        refinement.refined_from_aligned * reference_from_estimate);
-    std::cout << "After ICP: " << FormatMeshIcpResult(refinement) << "\n"
-              << FormatMeshEvaluation(refined) << std::flush;
-    std::string path = icp_output_path;
-    if (path.empty() && !output_path.empty()) {
-      const size_t dot = output_path.rfind(".json");
-      path = dot != std::string::npos && dot + 5 == output_path.size()
-                 ? output_path.substr(0, dot) + "_icp.json"
-                 : output_path + "_icp.json";
-    }
-    if (!path.empty()) {
-      WriteMeshEvaluationJson(path, refined);
-    }
-  }
+  // Prints the figures (and those after ICP) as each is computed.
+  RunMeshEvaluationJob(job, &std::cout);
   return EXIT_SUCCESS;
 }
 

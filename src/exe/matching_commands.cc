@@ -4,13 +4,11 @@
 #include <iostream>
 #include <string>
 
-#include "colmap_ext/model/model_io.h"
-#include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "src/exe/commands.h"
 #include "src/exe/option_manager.h"
-#include "src/matching/line_association.h"
-#include "src/matching/track_export.h"
+#include "src/matching/line_matching_options.h"
+#include "src/matching/workspace_line_matching.h"
 
 namespace colmap_lidar {
 namespace {
@@ -103,52 +101,40 @@ void AddLineMatchingOptions(LineMatchingOptions* o, OptionManager* options) {
 }  // namespace
 
 int RunLineMatcher(int argc, char** argv) {
-  std::string database_path;
-  std::string input_path;
-  std::string output_path;
-  std::string export_tracks_path;
+  WorkspaceLineMatchingPaths paths;
   LineMatchingOptions matching_options;
 
   OptionManager options;
-  options.AddRequiredOption("database_path", &database_path,
+  options.AddRequiredOption("database_path", &paths.database_path,
                             "COLMAP database with ext_line_segments (from "
                             "line_extractor).");
-  options.AddRequiredOption("input_path", &input_path,
+  options.AddRequiredOption("input_path", &paths.input_path,
                             "Sparse model whose poses place the segments in "
                             "the world (prior or refined).");
-  options.AddOption("output_path", &output_path,
+  options.AddOption("output_path", &paths.output_path,
                     "Folder for a copy of the model with the tracks as "
                     "lines3D.bin; empty: none.");
-  options.AddOption("export_tracks_path", &export_tracks_path,
+  options.AddOption("export_tracks_path", &paths.tracks_json_path,
                     "JSON file with every track's observations; empty: "
                     "none.");
   AddLineMatchingOptions(&matching_options, &options);
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
   }
-  if (!ExistsFile(database_path)) {
-    LOG(ERROR) << "--database_path " << database_path << " does not exist";
+  const WorkspaceLineMatchingSummary summary =
+      RunWorkspaceLineMatching(paths, matching_options);
+  if (!summary.error.empty()) {
+    LOG(ERROR) << summary.error;
     return EXIT_FAILURE;
   }
-  if (!ExistsModel(input_path)) {
-    LOG(ERROR) << "--input_path " << input_path << " holds no sparse model";
-    return EXIT_FAILURE;
+  std::cout << summary.association.Format() << std::endl;
+  if (!paths.output_path.empty()) {
+    std::cout << "Wrote the model with " << summary.num_model_lines3D
+              << " lines3D to " << paths.output_path << std::endl;
   }
-  Reconstruction model = ReadReconstruction(input_path);
-  Database database(database_path);
-  const LineAssociation association =
-      MatchWorkspaceLines(&database, model, matching_options);
-  std::cout << association.summary.Format() << std::endl;
-  if (!output_path.empty()) {
-    SetModelLines3D(association.tracks, &model);
-    WriteReconstruction(output_path, model, ModelFormat::kBinary);
-    std::cout << "Wrote the model with " << model.lines3D.size()
-              << " lines3D to " << output_path << std::endl;
-  }
-  if (!export_tracks_path.empty()) {
-    WriteLineTracksJson(export_tracks_path, database, association.tracks);
-    std::cout << "Wrote " << association.tracks.size() << " tracks to "
-              << export_tracks_path << std::endl;
+  if (!paths.tracks_json_path.empty()) {
+    std::cout << "Wrote " << summary.num_exported_tracks << " tracks to "
+              << paths.tracks_json_path << std::endl;
   }
   return EXIT_SUCCESS;
 }

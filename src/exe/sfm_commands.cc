@@ -4,16 +4,15 @@
 #include <iostream>
 #include <string>
 
-#include "colmap_ext/database/line_tracks_table.h"
-#include "colmap_ext/model/model_io.h"
-#include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "src/dataset/importer.h"
 #include "src/exe/commands.h"
 #include "src/exe/option_manager.h"
 #include "src/exe/option_sections.h"
-#include "src/sfm/ba_input.h"
+#include "src/optim/line_bundle_adjustment.h"
 #include "src/sfm/lidar_mapper.h"
+#include "src/sfm/lidar_mapper_workspace.h"
+#include "src/sfm/workspace_line_adjustment.h"
 
 namespace colmap_lidar {
 namespace {
@@ -239,24 +238,21 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
 }
 
 int RunLineBundleAdjuster(int argc, char** argv) {
-  std::string database_path;
-  std::string input_path;
-  std::string output_path;
-  std::string export_ply_path;
+  WorkspaceLineAdjustmentPaths paths;
   LineBundleAdjustmentOptions adjustment;
   AdjustmentNames names;
 
   OptionManager options;
-  options.AddRequiredOption("database_path", &database_path,
+  options.AddRequiredOption("database_path", &paths.database_path,
                             "COLMAP database with ext_line_tracks (from "
                             "line_matcher) and ext_line_segments.");
-  options.AddRequiredOption("input_path", &input_path,
+  options.AddRequiredOption("input_path", &paths.input_path,
                             "Sparse model with the poses (and points3D, "
                             "e.g. from stock point_triangulator).");
-  options.AddRequiredOption("output_path", &output_path,
+  options.AddRequiredOption("output_path", &paths.output_path,
                             "Folder of the refined model (binary, with "
                             "lines3D.bin).");
-  options.AddOption("export_ply_path", &export_ply_path,
+  options.AddOption("export_ply_path", &paths.lines_ply_path,
                     "PLY line set of the refined 3D segments; empty: "
                     "<output_path>/lines3D.ply.");
   AddAdjustmentOptions(&adjustment, &names, /*with_gauge_and_priors=*/true,
@@ -264,54 +260,19 @@ int RunLineBundleAdjuster(int argc, char** argv) {
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
   }
-  if (!ExistsFile(database_path)) {
-    LOG(ERROR) << "--database_path " << database_path << " does not exist";
+  const WorkspaceLineAdjustmentSummary summary =
+      RunWorkspaceLineAdjustment(paths, adjustment);
+  if (summary.solved) {
+    std::cout << summary.adjustment.ToString() << std::endl;
+  }
+  if (!summary.error.empty()) {
+    LOG(ERROR) << summary.error;
     return EXIT_FAILURE;
   }
-  if (!ExistsModel(input_path)) {
-    LOG(ERROR) << "--input_path " << input_path << " holds no sparse model";
-    return EXIT_FAILURE;
-  }
-  Reconstruction model = ReadReconstruction(input_path);
-  const Database database(database_path);
-  if (NumLineTracks(database) == 0) {
-    LOG(ERROR) << "--database_path " << database_path
-               << " holds no line tracks (ext_line_tracks is empty): run "
-                  "line_matcher first";
-    return EXIT_FAILURE;
-  }
-  LineTrackLoadSummary load_summary;
-  std::vector<LineTrack> tracks =
-      LoadLineTracks(database, model, /*min_track_length=*/2, &load_summary);
-  LOG(INFO) << "line_bundle_adjuster: " << load_summary.num_tracks << " of "
-            << load_summary.num_tracks_in_database << " line tracks, "
-            << load_summary.num_observations << " observations ("
-            << load_summary.num_observations_without_image
-            << " of images not in the model dropped)";
-  LineBundleAdjuster adjuster(adjustment);
-  if (adjustment.prior_position_sigma_m > 0.0) {
-    const auto priors = ReadPosePriors(database, model);
-    LOG(INFO) << "line_bundle_adjuster: " << priors.size()
-              << " images with a prior pose";
-    adjuster.SetPosePriors(priors);
-  }
-  const LineBundleAdjustmentSummary summary = adjuster.Solve(&model, &tracks);
-  std::cout << summary.ToString() << std::endl;
-  if (!summary.usable) {
-    LOG(ERROR) << "line_bundle_adjuster: the solution is not usable ("
-               << summary.termination_message << "); nothing written";
-    return EXIT_FAILURE;
-  }
-  SetReconstructionLines(tracks, &model);
-  WriteReconstruction(output_path, model, ModelFormat::kBinary);
-  if (export_ply_path.empty()) {
-    export_ply_path = JoinPaths(output_path, "lines3D.ply");
-  }
-  WriteLines3DPly(export_ply_path, model);
-  std::cout << "Wrote " << model.images.size() << " images, "
-            << model.points3D.size() << " points3D, " << model.lines3D.size()
-            << " lines3D to " << output_path << "; segments to "
-            << export_ply_path << std::endl;
+  std::cout << "Wrote " << summary.num_images << " images, "
+            << summary.num_points3D << " points3D, " << summary.num_lines3D
+            << " lines3D to " << paths.output_path << "; segments to "
+            << summary.lines_ply_path << std::endl;
   return EXIT_SUCCESS;
 }
 
@@ -344,24 +305,18 @@ int RunLidarMapperCommand(int argc, char** argv) {
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
   }
-  const std::string database_path =
-      paths.database_path.empty()
-          ? JoinPaths(paths.workspace_path, "database.db")
-          : paths.database_path;
-  if (!ExistsFile(database_path)) {
-    if (dataset_path.empty()) {
-      LOG(ERROR) << "No database " << database_path
-                 << ": run lidar_importer or give --dataset_path";
-      return EXIT_FAILURE;
-    }
-    const ImportSummary import = ImportDataset(
-        dataset_path, paths.workspace_path, database_path, ImporterOptions());
-    std::cout << FormatImportSummary(import) << std::endl;
-    if (paths.image_path.empty()) {
-      paths.image_path = import.image_path;
-    }
+  // The import summary is printed before the mapper's long run starts.
+  const LidarMapperWorkspace workspace =
+      PrepareLidarMapperWorkspace(paths, dataset_path);
+  if (!workspace.error.empty()) {
+    LOG(ERROR) << workspace.error;
+    return EXIT_FAILURE;
   }
-  const LidarMapperSummary summary = RunLidarMapper(paths, mapper_options);
+  if (workspace.imported) {
+    std::cout << FormatImportSummary(workspace.import) << std::endl;
+  }
+  const LidarMapperSummary summary =
+      RunLidarMapper(workspace.paths, mapper_options);
   std::cout << summary.Format() << std::endl;
   return EXIT_SUCCESS;
 }

@@ -248,6 +248,16 @@ FusedLidarCloud ReadFusedLidarCloud(const std::string& ply_path) {
   return cloud;
 }
 
+namespace {
+
+// lidar_origins.txt is whitespace-separated: a name must be one token.
+bool IsStorableOriginName(const std::string& image_name) {
+  return !image_name.empty() &&
+         image_name.find_first_of(" \t\n\r") == std::string::npos;
+}
+
+}  // namespace
+
 void WriteLidarOrigins(const std::string& path,
                        const std::vector<LidarOrigin>& origins) {
   WriteFileAtomically(
@@ -255,9 +265,7 @@ void WriteLidarOrigins(const std::string& path,
       [&](std::ostream& stream) {
         stream.precision(17);
         for (const LidarOrigin& origin : origins) {
-          THROW_CHECK(!origin.image_name.empty() &&
-                          origin.image_name.find_first_of(" \t\n") ==
-                              std::string::npos,
+          THROW_CHECK(IsStorableOriginName(origin.image_name),
                       "image name '" << origin.image_name
                                      << "' cannot be stored in " << path);
           stream << origin.image_name << " " << origin.position_in_world.x()
@@ -295,6 +303,9 @@ LidarFuserSummary RunLidarFuser(const std::string& database_path,
                                 const std::string& output_path,
                                 const LidarFusionOptions& options) {
   THROW_CHECK(options.Check(), "invalid LidarFusion options");
+  // Opening a Database creates a missing file: refuse first, so that a
+  // wrong path is an error and not an empty fusion.
+  CheckFileExists(database_path, "LIDAR fusion database");
   const Reconstruction model = ReadReconstruction(input_path);
   const std::string dense_sparse = JoinPaths(output_path, "sparse");
   const Reconstruction order_model =
@@ -325,6 +336,12 @@ LidarFuserSummary RunLidarFuser(const std::string& database_path,
       continue;
     }
     ++summary.num_frames;
+    // Checked before anything is written, so that a failure leaves no
+    // cloud without its origins.
+    THROW_CHECK(IsStorableOriginName(name),
+                "image name '" << name << "' cannot be stored in "
+                               << JoinPaths(output_path, "lidar_origins.txt")
+                               << " (it holds whitespace)");
     const std::optional<DatabaseImage> db_image =
         database.ReadImageWithName(name);
     std::optional<LidarScanRecord> record;

@@ -173,9 +173,13 @@ TEST_F(MeshingInputTest, ErrorsNameTheFile) {
   ExpectErrorNaming([&] { ReadMeshingInput(options, workspace_); },
                     "lidar_origins.txt");
   // A lines folder without lines.
+  MeshingInputOptions visual_only;
+  visual_only.use_lidar = false;
   ExpectErrorNaming(
-      [&] { ReadMeshingInput(MeshingInputOptions{true, false}, workspace_,
-                             JoinPaths(workspace_, "sparse")); },
+      [&] {
+        ReadMeshingInput(visual_only, workspace_,
+                         JoinPaths(workspace_, "sparse"));
+      },
       "sparse");
   ExpectErrorNaming(
       [&] { ReadMeshingInput(options, JoinPaths(workspace_, "nothing")); },

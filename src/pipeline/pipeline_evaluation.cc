@@ -344,6 +344,13 @@ std::string EvaluatePipeline(const PipelineEvaluationInput& input,
         ExistsFile(surface_path)) {
       mesh_options.reference_surface_path = surface_path;
     }
+    // Its crease edges give the figures near them (edge_region.h), where
+    // the line samples are meant to help.
+    const std::string edges_path =
+        JoinPaths(input.dataset_path, "ground_truth/crease_edges.txt");
+    if (mesh_options.edge_region_path.empty() && ExistsFile(edges_path)) {
+      mesh_options.edge_region_path = edges_path;
+    }
     note << "meshes aligned (" << mesh_alignment << "): ";
     std::vector<MeshIcpRecord> icp_records;
     if (ExistsFile(input.mesh_path)) {

@@ -166,7 +166,9 @@ class Report:
         if errors:
             fig, ax = plt.subplots(figsize=(9, 4))
             all_errors = np.concatenate(list(errors.values()))
-            low = max(np.min(all_errors[all_errors > 0]), 1e-4)
+            positive = all_errors[all_errors > 0]
+            # All zero (e.g. the ground truth against itself): any floor.
+            low = max(np.min(positive), 1e-4) if positive.size else 1e-4
             high = max(np.max(all_errors), low * 10)
             bins = np.logspace(math.log10(low), math.log10(high), 40)
             for label, values in errors.items():
