@@ -37,6 +37,7 @@
 #include "colmap_ext/util/testing.h"
 #include "src/dataset/calibration.h"
 #include "src/dataset/poses.h"
+#include "src/eval/corner_test_scene.h"
 #include "src/eval/line_evaluator.h"
 #include "src/eval/mesh_evaluator.h"
 #include "src/eval/mesh_sampling.h"
@@ -327,68 +328,11 @@ TEST(JsonOutputs, EveryTableIsCheckedHere) {
 // ---------------------------------------------------------------------------
 // The evaluate stage: poses, meshes, mesh alignment and depth maps.
 
-// A room corner: 6 x 6 m floor and two 3 m walls, each rectangle split into
-// two triangles; its creases run along the three axes.
-struct Corner {
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<Eigen::Vector3i> triangles;
-};
-
-Corner CornerMesh() {
-  Corner corner;
-  const auto add_rectangle = [&corner](const Eigen::Vector3d& origin,
-                                       const Eigen::Vector3d& u,
-                                       const Eigen::Vector3d& v) {
-    const int base = static_cast<int>(corner.vertices.size());
-    corner.vertices.insert(corner.vertices.end(),
-                           {origin, origin + u, origin + u + v, origin + v});
-    corner.triangles.emplace_back(base, base + 1, base + 2);
-    corner.triangles.emplace_back(base, base + 2, base + 3);
-  };
-  add_rectangle({0, 0, 0}, {6, 0, 0}, {0, 6, 0});
-  add_rectangle({0, 0, 0}, {0, 6, 0}, {0, 0, 3});
-  add_rectangle({0, 0, 0}, {6, 0, 0}, {0, 0, 3});
-  return corner;
-}
-
-// `points` (float64) and, if given, the triangles as faces.
-void WritePoints(const std::string& path,
-                 const std::vector<Eigen::Vector3d>& points,
-                 const std::vector<Eigen::Vector3i>& triangles = {}) {
-  std::vector<double> x, y, z;
-  for (const Eigen::Vector3d& p : points) {
-    x.push_back(p.x());
-    y.push_back(p.y());
-    z.push_back(p.z());
-  }
-  PlyData data;
-  data.AddColumn("x", PlyScalarType::kFloat64, x);
-  data.AddColumn("y", PlyScalarType::kFloat64, y);
-  data.AddColumn("z", PlyScalarType::kFloat64, z);
-  for (const Eigen::Vector3i& triangle : triangles) {
-    data.faces.push_back({static_cast<uint32_t>(triangle[0]),
-                          static_cast<uint32_t>(triangle[1]),
-                          static_cast<uint32_t>(triangle[2])});
-  }
-  WritePly(path, data);
-}
-
-// The reconstruction's frame: 20 deg about a tilted axis and (2, -1, 0.5) m
-// from the reference's.
-Eigen::Affine3d EstimateFromReference() {
-  Eigen::Affine3d transform(Eigen::AngleAxisd(
-      20.0 * M_PI / 180.0, Eigen::Vector3d(0.2, -0.1, 1.0).normalized()));
-  transform.translation() = Eigen::Vector3d(2.0, -1.0, 0.5);
-  return transform;
-}
-
-// A residual misplacement of the mesh for the ICP: 1.5 deg, 10 cm.
-Eigen::Affine3d Displacement() {
-  Eigen::Affine3d displacement(Eigen::AngleAxisd(
-      1.5 * M_PI / 180.0, Eigen::Vector3d(1, 2, -1).normalized()));
-  displacement.translation() = Eigen::Vector3d(0.08, -0.05, 0.06);
-  return displacement;
-}
+// The corner scene: src/eval/corner_test_scene.h.
+using testing::CornerMesh;
+using testing::Displacement;
+using testing::EstimateFromReference;
+using testing::WritePointsPly;
 
 // A recording and a workspace for EvaluatePipeline under `root`:
 //   dataset/reference.ply       the corner sampled, 500 points per m2;
@@ -404,8 +348,8 @@ PipelineEvaluationInput WriteEvaluationInputs(const std::string& root) {
   PipelineEvaluationInput input;
   input.dataset_path = JoinPaths(root, "dataset");
   fs::create_directories(JoinPaths(input.dataset_path, "ground_truth"));
-  const Corner corner = CornerMesh();
-  WritePoints(JoinPaths(input.dataset_path, "reference.ply"),
+  const testing::Corner corner = CornerMesh();
+  WritePointsPly(JoinPaths(input.dataset_path, "reference.ply"),
               SampleTriangleMesh(corner.vertices, corner.triangles, 500.0,
                                  /*seed=*/5));
   {
@@ -414,51 +358,23 @@ PipelineEvaluationInput WriteEvaluationInputs(const std::string& root) {
     edges << "0 0 0 6 0 0\n0 0 0 0 6 0\n0 0 0 0 0 3\n";
   }
 
-  const Eigen::Affine3d estimate_from_reference = EstimateFromReference();
-  Rigid3d estimate_from_reference_rigid;
-  estimate_from_reference_rigid.rotation =
-      Eigen::Quaterniond(estimate_from_reference.linear());
-  estimate_from_reference_rigid.translation =
-      estimate_from_reference.translation();
-  const std::vector<Eigen::Vector3d> centres = {{1, 1, 1.5},     {4, 1, 1.2},
-                                                {4, 4, 1.8},     {1, 4, 1.4},
-                                                {2.5, 2.5, 2.5}, {3, 2, 0.8}};
-  std::vector<FramePose> ground_truth;
-  Reconstruction model;
-  Camera camera = Camera::FromModelName("PINHOLE", 100, 80, {80, 80, 50, 40});
-  camera.camera_id = 1;
-  model.cameras[1] = camera;
-  for (size_t i = 0; i < centres.size(); ++i) {
-    FramePose pose;
-    pose.frame = "00000" + std::to_string(i);
-    pose.world_from_cam.translation = centres[i];
-    pose.world_from_cam.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(
-        0.4 * i, Eigen::Vector3d(1, 0.5 * i, 2).normalized()));
-    ground_truth.push_back(pose);
-    Image image;
-    image.image_id = i + 1;
-    image.camera_id = 1;
-    image.name = pose.frame + ".png";
-    image.cam_from_world =
-        (estimate_from_reference_rigid * pose.world_from_cam).Inverse();
-    model.images.push_back(image);
-  }
-  WritePoses(JoinPaths(input.dataset_path, "poses_gt.txt"), ground_truth);
   input.refined_model_path = JoinPaths(root, "ws/sparse/refined");
   fs::create_directories(input.refined_model_path);
-  WriteReconstruction(input.refined_model_path, model, ModelFormat::kBinary);
+  testing::WriteCornerCameras(JoinPaths(input.dataset_path, "poses_gt.txt"),
+                              input.refined_model_path);
+  const Eigen::Affine3d estimate_from_reference = EstimateFromReference();
   // The priors and the stock mapper's model: the same model.
   input.prior_model_path = input.refined_model_path;
   input.mapper_model_path = input.refined_model_path;
 
   const std::string dense = JoinPaths(root, "ws/dense");
   fs::create_directories(dense);
-  Corner mesh = CornerMesh();
+  testing::Corner mesh = CornerMesh();
   for (Eigen::Vector3d& vertex : mesh.vertices) {
     vertex = estimate_from_reference * Displacement() * vertex;
   }
   input.mesh_path = JoinPaths(dense, "meshed.ply");
-  WritePoints(input.mesh_path, mesh.vertices, mesh.triangles);
+  WritePointsPly(input.mesh_path, mesh.vertices, mesh.triangles);
   // Not written: no observed cloud, no LIDAR baseline; its folder is the
   // dense workspace of the depth maps.
   input.lidar_cloud_path = JoinPaths(dense, "lidar_fused.ply");

@@ -12,48 +12,16 @@
 #include "colmap_ext/util/ply.h"
 #include "colmap_ext/util/testing.h"
 #include "src/dataset/poses.h"
+#include "src/eval/corner_test_scene.h"
 #include "src/eval/mesh_sampling.h"
 
 namespace colmap_lidar {
 namespace {
 
-// A room corner: 6 x 6 m floor and two 3 m walls, each rectangle split into
-// two triangles. Three orthogonal planes fix all six degrees of freedom (of
-// the ICP).
-struct Corner {
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<Eigen::Vector3i> triangles;
-};
-
-Corner CornerMesh() {
-  Corner corner;
-  const auto add_rectangle = [&](const Eigen::Vector3d& origin,
-                                 const Eigen::Vector3d& u,
-                                 const Eigen::Vector3d& v) {
-    const int base = static_cast<int>(corner.vertices.size());
-    corner.vertices.insert(corner.vertices.end(),
-                           {origin, origin + u, origin + u + v, origin + v});
-    corner.triangles.emplace_back(base, base + 1, base + 2);
-    corner.triangles.emplace_back(base, base + 2, base + 3);
-  };
-  add_rectangle({0, 0, 0}, {6, 0, 0}, {0, 6, 0});
-  add_rectangle({0, 0, 0}, {0, 6, 0}, {0, 0, 3});
-  add_rectangle({0, 0, 0}, {6, 0, 0}, {0, 0, 3});
-  return corner;
-}
-
-// Writes `points` (float64) and, if given, the triangles as faces.
-void WritePoints(const std::string& path,
-                 const std::vector<Eigen::Vector3d>& points,
-                 const std::vector<Eigen::Vector3i>& triangles = {}) {
-  std::vector<std::vector<uint32_t>> faces;
-  for (const Eigen::Vector3i& triangle : triangles) {
-    faces.push_back({static_cast<uint32_t>(triangle[0]),
-                     static_cast<uint32_t>(triangle[1]),
-                     static_cast<uint32_t>(triangle[2])});
-  }
-  testing::WriteXyzPly(path, points, faces);
-}
+using testing::Corner;
+using testing::CornerMesh;
+using testing::Displacement;
+using testing::EstimateFromReference;
 
 // The corner mesh carried by `transform`, written to `path`.
 void WriteCorner(const std::string& path, const Eigen::Affine3d& transform) {
@@ -61,24 +29,7 @@ void WriteCorner(const std::string& path, const Eigen::Affine3d& transform) {
   for (Eigen::Vector3d& vertex : corner.vertices) {
     vertex = transform * vertex;
   }
-  WritePoints(path, corner.vertices, corner.triangles);
-}
-
-// The frame of a reconstruction: rotated by 20 deg about a tilted axis and
-// shifted by (2, -1, 0.5) m from the reference's frame.
-Eigen::Affine3d EstimateFromReference() {
-  Eigen::Affine3d transform(Eigen::AngleAxisd(
-      20.0 * M_PI / 180.0, Eigen::Vector3d(0.2, -0.1, 1.0).normalized()));
-  transform.translation() = Eigen::Vector3d(2.0, -1.0, 0.5);
-  return transform;
-}
-
-// A small residual misplacement: 1.5 deg and (8, -5, 6) cm.
-Eigen::Affine3d Displacement() {
-  Eigen::Affine3d displacement(Eigen::AngleAxisd(
-      1.5 * M_PI / 180.0, Eigen::Vector3d(1, 2, -1).normalized()));
-  displacement.translation() = Eigen::Vector3d(0.08, -0.05, 0.06);
-  return displacement;
+  testing::WritePointsPly(path, corner.vertices, corner.triangles);
 }
 
 // The inputs of a job in a fresh test folder: the true corner sampled as
@@ -99,41 +50,12 @@ Inputs WriteInputs() {
   inputs.ground_truth_poses_path = JoinPaths(inputs.dir, "poses_gt.txt");
   inputs.model_path = JoinPaths(inputs.dir, "sparse");
   const Corner corner = CornerMesh();
-  WritePoints(inputs.reference_path,
+  testing::WritePointsPly(inputs.reference_path,
               SampleTriangleMesh(corner.vertices, corner.triangles, 2000.0,
                                  /*seed=*/5));
 
-  const Eigen::Affine3d estimate_from_reference = EstimateFromReference();
-  Rigid3d estimate_from_reference_rigid;
-  estimate_from_reference_rigid.rotation =
-      Eigen::Quaterniond(estimate_from_reference.linear());
-  estimate_from_reference_rigid.translation =
-      estimate_from_reference.translation();
-  const std::vector<Eigen::Vector3d> centres = {{1, 1, 1.5},     {4, 1, 1.2},
-                                                {4, 4, 1.8},     {1, 4, 1.4},
-                                                {2.5, 2.5, 2.5}, {3, 2, 0.8}};
-  std::vector<FramePose> ground_truth;
-  Reconstruction model;
-  Camera camera = Camera::FromModelName("PINHOLE", 100, 80, {80, 80, 50, 40});
-  camera.camera_id = 1;
-  model.cameras[1] = camera;
-  for (size_t i = 0; i < centres.size(); ++i) {
-    FramePose pose;
-    pose.frame = "00000" + std::to_string(i);
-    pose.world_from_cam.translation = centres[i];
-    pose.world_from_cam.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(
-        0.4 * i, Eigen::Vector3d(1, 0.5 * i, 2).normalized()));
-    ground_truth.push_back(pose);
-    Image image;
-    image.image_id = i + 1;
-    image.camera_id = 1;
-    image.name = pose.frame + ".png";
-    image.cam_from_world =
-        (estimate_from_reference_rigid * pose.world_from_cam).Inverse();
-    model.images.push_back(image);
-  }
-  WritePoses(inputs.ground_truth_poses_path, ground_truth);
-  WriteReconstruction(inputs.model_path, model, ModelFormat::kBinary);
+  testing::WriteCornerCameras(inputs.ground_truth_poses_path,
+                              inputs.model_path);
   return inputs;
 }
 
