@@ -129,4 +129,20 @@ std::vector<image_t> ReadImageIdsWithLineSegments(const Database& database) {
   return image_ids;
 }
 
+const LineSegmentRecord& LineSegmentCache::Segment(image_t image_id,
+                                                   uint32_t idx,
+                                                   line3D_t line3D_id) {
+  auto it = segments_.find(image_id);
+  if (it == segments_.end()) {
+    it = segments_.emplace(image_id, ReadLineSegments(database_, image_id))
+             .first;
+  }
+  THROW_CHECK(idx < it->second.size(),
+              database_.path()
+                  << ": line track " << line3D_id << " references segment "
+                  << idx << " of image " << image_id << ", which has only "
+                  << it->second.size() << " rows in ext_line_segments");
+  return it->second[idx];
+}
+
 }  // namespace colmap_lidar

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -53,5 +54,21 @@ size_t NumLineSegments(const Database& database);
 size_t NumLineSegmentsForImage(const Database& database, image_t image_id);
 // Images with at least one segment, increasing.
 std::vector<image_t> ReadImageIdsWithLineSegments(const Database& database);
+
+// Segments by (image_id, idx) as line tracks refer to them, each image's
+// read once. The database must outlive the cache.
+class LineSegmentCache {
+ public:
+  explicit LineSegmentCache(const Database& database) : database_(database) {}
+  // Throws naming the database, the image and `line3D_id` (the referring
+  // track, for the message) when the image has no segment `idx`: a model or
+  // track table of another run than the segments.
+  const LineSegmentRecord& Segment(image_t image_id, uint32_t idx,
+                                   line3D_t line3D_id);
+
+ private:
+  const Database& database_;
+  std::unordered_map<image_t, std::vector<LineSegmentRecord>> segments_;
+};
 
 }  // namespace colmap_lidar

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/testing.h"
 
 namespace colmap_lidar {
@@ -127,6 +128,21 @@ TEST_F(LineSegmentsTableTest, StockColmapStillOpensTheDatabase) {
   database_.Open(path_);
   EXPECT_EQ(database_.NumImages(), 0u);
   EXPECT_EQ(NumLineSegments(database_), 0u);
+}
+
+TEST_F(LineSegmentsTableTest, CacheReadsSegmentsAndNamesTheDatabase) {
+  WriteLineSegments(&database_, image_ids_[0], {MakeSegment(0), MakeSegment(1)});
+  LineSegmentCache cache(database_);
+  ExpectEqual(cache.Segment(image_ids_[0], 1, 7), MakeSegment(1));
+  ExpectEqual(cache.Segment(image_ids_[0], 0, 7), MakeSegment(0));
+  try {
+    cache.Segment(image_ids_[1], 0, 7);  // b.png has no segment.
+    FAIL() << "expected an error";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(path_), std::string::npos) << message;
+    EXPECT_NE(message.find("line track 7"), std::string::npos) << message;
+  }
 }
 
 }  // namespace

@@ -43,7 +43,9 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      "Rays of a LIDAR voxel from at most this many of its "
                      "frames, the nearest scanner positions; 0: all.");
   options->AddOption("DelaunayMeshing.line_weight", &input->line_weight,
-                     "Weight of each ray of a 3D line sample, >= 0.");
+                     "Weight of each ray of a 3D line sample, times the "
+                     "visibility probability of a point seen in as many "
+                     "images as observed the sample, >= 0.");
   options->AddOption("DelaunayMeshing.line_sample_step_m",
                      &input->line_sample_step_m,
                      "Spacing of the samples along a 3D line segment, "
@@ -131,6 +133,7 @@ int RunLidarDelaunayMesher(int argc, char** argv) {
   std::string workspace_path;
   std::string output_path;
   std::string lines_path;
+  std::string database_path;
   DelaunayMeshingOptions meshing_options;
   MeshingInputOptions input_options;
 
@@ -145,6 +148,11 @@ int RunLidarDelaunayMesher(int argc, char** argv) {
   options.AddOption("lines_path", &lines_path,
                     "Model folder with lines3D.bin/.txt whose segments are "
                     "sampled into the triangulation; empty: no lines.");
+  options.AddOption("database_path", &database_path,
+                    "Database with the 2D line segments (ext_line_segments) "
+                    "that the lines' tracks index: a sample's rays then come "
+                    "only from the images that observed it. Empty: from "
+                    "every image of the line's track.");
   AddDelaunayMeshingOptions(&meshing_options, &input_options, &options);
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
@@ -157,8 +165,13 @@ int RunLidarDelaunayMesher(int argc, char** argv) {
     LOG(ERROR) << "--lines_path " << lines_path << " is not a folder";
     return EXIT_FAILURE;
   }
-  const DelaunayMeshingSummary summary = MeshDenseWorkspace(
-      meshing_options, input_options, workspace_path, lines_path, output_path);
+  if (!database_path.empty() && !ExistsFile(database_path)) {
+    LOG(ERROR) << "--database_path " << database_path << " is not a file";
+    return EXIT_FAILURE;
+  }
+  const DelaunayMeshingSummary summary =
+      MeshDenseWorkspace(meshing_options, input_options, workspace_path,
+                         lines_path, output_path, database_path);
   LOG(INFO) << "lidar_delaunay_mesher: " << summary.num_input_points
             << " points, " << summary.num_vertices << " Delaunay vertices, "
             << summary.num_faces << " faces; triangulation "

@@ -304,12 +304,12 @@ DelaunayMeshingSummary MeshDenseWorkspace(
     const DelaunayMeshingOptions& options,
     const MeshingInputOptions& input_options,
     const std::string& workspace_path, const std::string& lines_model_path,
-    const std::string& output_path) {
+    const std::string& output_path, const std::string& database_path) {
   const StageTimer timer;
   MeshingInputOptions threaded_input_options = input_options;
   threaded_input_options.num_threads = options.num_threads;
   const MeshingInput input = ReadMeshingInput(
-      threaded_input_options, workspace_path, lines_model_path);
+      threaded_input_options, workspace_path, lines_model_path, database_path);
   DelaunayMeshingSummary summary;
   const TriangleMesh mesh = DelaunayMeshing(options, input, &summary);
   WriteMeshPly(output_path, mesh);

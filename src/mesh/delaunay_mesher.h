@@ -102,13 +102,14 @@ TriangleMesh DelaunayMeshing(const DelaunayMeshingOptions& options,
                              const MeshingInput& input,
                              DelaunayMeshingSummary* summary = nullptr);
 
-// The lidar_delaunay_mesher command: reads the workspace (and lines),
-// meshes, writes `output_path` (WriteMeshPly).
+// The lidar_delaunay_mesher command: reads the workspace (and lines, with
+// the database of their 2D segments; see ReadMeshingInput), meshes, writes
+// `output_path` (WriteMeshPly).
 DelaunayMeshingSummary MeshDenseWorkspace(
     const DelaunayMeshingOptions& options,
     const MeshingInputOptions& input_options,
     const std::string& workspace_path, const std::string& lines_model_path,
-    const std::string& output_path);
+    const std::string& output_path, const std::string& database_path = "");
 
 // VmHWM of /proc/self/status in bytes; 0 when unavailable.
 size_t PeakResidentMemoryBytes();

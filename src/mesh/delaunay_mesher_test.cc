@@ -241,7 +241,7 @@ TEST(DelaunayMesher, LineSamplesSharpenTheBoxEdges) {
   }
   ASSERT_GE(lines_model.lines3D.size(), 8u);
   AddLineSamples(MeshingInputOptions(), scene.Model(), lines_model,
-                 &line_input);
+                 /*observations=*/nullptr, &line_input);
   ASSERT_GT(line_input.NumPoints(MeshingPointSource::kLine), 100u);
   const TriangleMesh line_mesh = DelaunayMeshing(TestOptions(), line_input);
 

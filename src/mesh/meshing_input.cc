@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -180,22 +181,30 @@ void AddCameraSensors(const Reconstruction& model, MeshingInput* input) {
   }
 }
 
+namespace {
+
+// COLMAP's visibility probability of a point seen in n images,
+// 1 - exp(-n^2 / (2 visibility_sigma^2)): how much a ray of it is trusted.
+double VisibilityProbability(const MeshingInputOptions& options, size_t n) {
+  const double sigma = options.visibility_sigma;
+  return 1.0 - std::exp(-0.5 * static_cast<double>(n * n) / (sigma * sigma));
+}
+
+}  // namespace
+
 void AddVisualPoints(const MeshingInputOptions& options,
                      const std::vector<Eigen::Vector3d>& positions,
                      const FusedVisibility& visibility, MeshingInput* input) {
   THROW_CHECK(positions.size() == visibility.size(),
               "Visual points and visibility differ in length");
-  const double normalization =
-      -0.5 / (options.visibility_sigma * options.visibility_sigma);
   size_t num_unseen = 0;
   for (size_t i = 0; i < positions.size(); ++i) {
-    const double n = static_cast<double>(visibility[i].size());
-    if (n == 0) {
+    if (visibility[i].empty()) {
       ++num_unseen;
       continue;
     }
-    const double weight =
-        options.visual_weight * (1.0 - std::exp(n * n * normalization));
+    const double weight = options.visual_weight *
+                          VisibilityProbability(options, visibility[i].size());
     input->AddPoint(positions[i], MeshingPointSource::kVisual,
                     static_cast<float>(weight), visibility[i]);
   }
@@ -276,31 +285,77 @@ void AddLidarPoints(const MeshingInputOptions& options,
   }
 }
 
-void AddLineSamples(const MeshingInputOptions& options,
-                    const Reconstruction& dense_model,
-                    const Reconstruction& lines_model, MeshingInput* input) {
+size_t AddLineSamples(
+    const MeshingInputOptions& options, const Reconstruction& dense_model,
+    const Reconstruction& lines_model,
+    const std::map<line3D_t, std::vector<LineObservedInterval>>* observations,
+    MeshingInput* input) {
   size_t num_lines_used = 0;
+  size_t num_samples = 0;
+  size_t num_unobserved = 0;
   for (const auto& [line3D_id, line3D] : lines_model.lines3D) {
-    std::vector<uint32_t> sensor_indices;
-    for (const LineTrackElement& element : line3D.track) {
-      const int image_idx = dense_model.ImageIndex(element.image_id);
-      if (image_idx >= 0) sensor_indices.push_back(image_idx);
+    // (sensor index, observed interval) of each image of the track.
+    struct Observer {
+      uint32_t sensor_idx;
+      double t_begin;
+      double t_end;
+    };
+    std::vector<Observer> observers;
+    if (observations == nullptr) {
+      for (const LineTrackElement& element : line3D.track) {
+        const int image_idx = dense_model.ImageIndex(element.image_id);
+        if (image_idx >= 0) {
+          observers.push_back({static_cast<uint32_t>(image_idx),
+                               -std::numeric_limits<double>::infinity(),
+                               std::numeric_limits<double>::infinity()});
+        }
+      }
+    } else if (const auto it = observations->find(line3D_id);
+               it != observations->end()) {
+      for (const LineObservedInterval& observation : it->second) {
+        const int image_idx = dense_model.ImageIndex(observation.image_id);
+        if (image_idx >= 0) {
+          observers.push_back({static_cast<uint32_t>(image_idx),
+                               observation.t_begin, observation.t_end});
+        }
+      }
     }
-    std::sort(sensor_indices.begin(), sensor_indices.end());
-    sensor_indices.erase(
-        std::unique(sensor_indices.begin(), sensor_indices.end()),
-        sensor_indices.end());
-    if (sensor_indices.empty()) continue;
+    if (observers.empty()) continue;
     const Eigen::Vector3d& start = line3D.start_in_world;
     const Eigen::Vector3d& end = line3D.end_in_world;
     const int num_steps = std::max(
         1, static_cast<int>(std::ceil((end - start).norm() /
                                       options.line_sample_step_m)));
+    // The per-view endpoints are as noisy as the LIDAR edge points they
+    // came from: an image sees a sample one step beyond its interval too.
+    const double tolerance = 1.0 / num_steps;
     for (int k = 0; k <= num_steps; ++k) {
       const double t = static_cast<double>(k) / num_steps;
+      std::vector<uint32_t> sensor_indices;
+      for (const Observer& observer : observers) {
+        if (t >= observer.t_begin - tolerance &&
+            t <= observer.t_end + tolerance) {
+          sensor_indices.push_back(observer.sensor_idx);
+        }
+      }
+      std::sort(sensor_indices.begin(), sensor_indices.end());
+      sensor_indices.erase(
+          std::unique(sensor_indices.begin(), sensor_indices.end()),
+          sensor_indices.end());
+      if (sensor_indices.empty()) {
+        ++num_unobserved;
+        continue;
+      }
+      // Trusted like a visual point seen in as many images: the sample is
+      // as well placed as the line (a few cm), no better than a fused
+      // depth; a full-weight ray of each sample outweighed the dense points
+      // near the crease and cost precision there (matrix.md).
+      const double weight =
+          options.line_weight *
+          VisibilityProbability(options, sensor_indices.size());
       input->AddPoint(start + t * (end - start), MeshingPointSource::kLine,
-                      static_cast<float>(options.line_weight),
-                      sensor_indices);
+                      static_cast<float>(weight), std::move(sensor_indices));
+      ++num_samples;
     }
     ++num_lines_used;
   }
@@ -308,11 +363,18 @@ void AddLineSamples(const MeshingInputOptions& options,
     LOG(WARNING) << lines_model.lines3D.size() - num_lines_used
                  << " 3D lines are seen by no image of the dense model";
   }
+  if (num_unobserved > 0) {
+    LOG(INFO) << num_unobserved
+              << " line samples lie outside every observed part of their "
+                 "line and are not used";
+  }
+  return num_samples;
 }
 
 MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
                               const std::string& workspace_path,
-                              const std::string& lines_model_path) {
+                              const std::string& lines_model_path,
+                              const std::string& database_path) {
   THROW_CHECK(options.Check(), "Invalid meshing input options");
   CheckDirExists(workspace_path, "Dense workspace");
   const DenseWorkspace workspace(workspace_path);
@@ -388,9 +450,19 @@ MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
     const Reconstruction lines_model = ReadReconstruction(lines_model_path);
     THROW_CHECK(!lines_model.lines3D.empty(),
                 "No lines3D.bin/.txt with lines in " << lines_model_path);
-    const size_t num_before = input.NumPoints();
-    AddLineSamples(options, model, lines_model, &input);
-    LOG(INFO) << "Line samples: " << input.NumPoints() - num_before << " from "
+    std::map<line3D_t, std::vector<LineObservedInterval>> observations;
+    if (!database_path.empty()) {
+      CheckFileExists(database_path, "Database");
+      const Database database(database_path);
+      observations = ReadLineObservations(lines_model, database);
+    } else {
+      LOG(WARNING) << "No database of the line segments: every image of a "
+                      "line's track is taken to see the whole line";
+    }
+    const size_t num_samples = AddLineSamples(
+        options, model, lines_model,
+        database_path.empty() ? nullptr : &observations, &input);
+    LOG(INFO) << "Line samples: " << num_samples << " from "
               << lines_model.lines3D.size() << " 3D lines in "
               << lines_model_path;
   }

@@ -11,11 +11,14 @@
 //   frame). The rays go from those origins to the voxel.
 // - Line samples (optional): points every line_sample_step_m along the 3D
 //   segments of a model's lines3D file, seen from the camera centres of the
-//   images in the line's track (matched by image_id).
+//   images in the line's track (matched by image_id) that observed that part
+//   of the line (line_observations.h; given the database of the 2D
+//   segments, else every image of the track sees the whole line).
 // Each point carries the free-space weight of each of its rays.
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,6 +27,7 @@
 #include "colmap_ext/mvs/fused_vis.h"
 #include "colmap_ext/scene/reconstruction.h"
 #include "src/mesh/lidar_denoising.h"
+#include "src/mesh/line_observations.h"
 
 namespace colmap_lidar {
 
@@ -86,7 +90,9 @@ struct MeshingInputOptions {
   // seen by about 9 of the 60 360-degree scans: casting all of them was 80 %
   // of the meshing time.
   int max_lidar_rays_per_point = 3;
-  // Weight of each ray of a line sample.
+  // Weight of a line sample's ray, times the visibility probability above
+  // of a point seen in as many images as observed the sample (as a visual
+  // ray: the line is placed no better than a fused depth).
   double line_weight = 1.0;
   // Spacing of the samples along a 3D segment, metres (> 0); both end points
   // are always sampled.
@@ -116,13 +122,16 @@ void WriteLidarOrigins(
     const std::vector<std::pair<std::string, Eigen::Vector3d>>& origins);
 
 // Gathers the input from a dense workspace and, when `lines_model_path` is
-// not empty, the lines3D of the model there. Throws colmap_lidar::Error
+// not empty, the lines3D of the model there; `database_path` (optional, the
+// database whose ext_line_segments the lines' tracks index) restricts each
+// sample's rays to the images that observed it. Throws colmap_lidar::Error
 // naming the file on a missing or inconsistent file (vis count differs from
 // the PLY vertex count, vis index beyond the model's images, LIDAR frame
 // without an origin). No input point at all is an error too.
 MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
                               const std::string& workspace_path,
-                              const std::string& lines_model_path = "");
+                              const std::string& lines_model_path = "",
+                              const std::string& database_path = "");
 
 // The building blocks of ReadMeshingInput. AddCameraSensors must come first:
 // sensor i is then the camera of image i of `model`.
@@ -139,8 +148,14 @@ void AddLidarPoints(const MeshingInputOptions& options,
                     const std::vector<Eigen::Vector3d>& origins,
                     const std::vector<bool>& has_origin,
                     const std::string& path_for_errors, MeshingInput* input);
-void AddLineSamples(const MeshingInputOptions& options,
-                    const Reconstruction& dense_model,
-                    const Reconstruction& lines_model, MeshingInput* input);
+// `observations` (ReadLineObservations) restrict the rays of a sample to the
+// images whose observed interval, widened by one sample step, contains it; a
+// sample that no image observed is not added. nullptr: every image of the
+// track sees every sample. Returns the number of samples added.
+size_t AddLineSamples(
+    const MeshingInputOptions& options, const Reconstruction& dense_model,
+    const Reconstruction& lines_model,
+    const std::map<line3D_t, std::vector<LineObservedInterval>>* observations,
+    MeshingInput* input);
 
 }  // namespace colmap_lidar

@@ -260,7 +260,8 @@ std::string RunMeshStage(const PipelineContext& context) {
     }
   }
   const DelaunayMeshingSummary summary = MeshDenseWorkspace(
-      meshing, options.meshing_input, paths.dense, lines_path, paths.mesh);
+      meshing, options.meshing_input, paths.dense, lines_path, paths.mesh,
+      lines_path.empty() ? "" : paths.database);
   std::ostringstream note;
   note << summary.num_input_points << " input points, "
        << summary.num_mesh_vertices << " vertices, " << summary.num_faces

@@ -17,7 +17,7 @@ std::vector<LineTrack> LoadLineTracks(const Database& database,
   local_summary.num_tracks_in_database = static_cast<int>(records.size());
 
   // Segments are read once per image that some track references.
-  std::unordered_map<image_t, std::vector<LineSegmentRecord>> segments;
+  LineSegmentCache segments(database);
   std::vector<LineTrack> tracks;
   tracks.reserve(records.size());
   for (const LineTrackRecord& record : records) {
@@ -31,20 +31,8 @@ std::vector<LineTrack> LoadLineTracks(const Database& database,
         ++local_summary.num_observations_without_image;
         continue;
       }
-      auto it = segments.find(element.image_id);
-      if (it == segments.end()) {
-        it = segments
-                 .emplace(element.image_id,
-                          ReadLineSegments(database, element.image_id))
-                 .first;
-      }
-      THROW_CHECK(element.line2D_idx < it->second.size(),
-                  "Line track " << record.line3D_id << " references segment "
-                                << element.line2D_idx << " of image "
-                                << element.image_id << ", which has only "
-                                << it->second.size()
-                                << " rows in ext_line_segments");
-      const LineSegmentRecord& segment = it->second[element.line2D_idx];
+      const LineSegmentRecord& segment = segments.Segment(
+          element.image_id, element.line2D_idx, record.line3D_id);
       LineObservation observation;
       observation.image_id = element.image_id;
       observation.line2D_idx = element.line2D_idx;

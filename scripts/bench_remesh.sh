@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# A/B of the meshing on a finished benchmark matrix (scripts/bench_matrix.sh):
+# re-runs the mesh and evaluate stages of run 1 of each cell with the given
+# binary and options, on a copy of the workspace (hard links; every stage
+# writes new files and renames, so the links are never written through),
+# without the LIDAR-only baseline, and prints per cell the mesh figures of
+# the variant beside the run's own and its mesh without line samples
+# (matrix/nolines_eval). The stages before the mesh are not re-run: the
+# variant meshes the same poses, depth maps and lines.
+#
+# Usage: bash scripts/bench_remesh.sh --work DIR --name NAME [--cells a,b]
+#          [--kitti DIR] [-- automatic_reconstructor options...]
+#   work   the matrix's work folder (--work of bench_matrix.sh)
+#   name   the variant's folder under each cell (DIR/CELL/remesh/NAME)
+#   cells  default: every cell of the work folder with a finished run 1
+#   kitti  the KITTI recording of the matrix's kitti cell (else it is skipped)
+# COLMAP_LIDAR_BIN selects the binary (default build/colmap-lidar).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+BIN="${COLMAP_LIDAR_BIN:-${ROOT}/build/colmap-lidar}"
+WORK=""
+NAME=""
+CELLS=""
+KITTI=""
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --work) WORK=$2; shift 2 ;;
+    --name) NAME=$2; shift 2 ;;
+    --cells) CELLS=$2; shift 2 ;;
+    --kitti) KITTI=$2; shift 2 ;;
+    --) shift; break ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    *) echo "bench_remesh: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+[[ -n "${WORK}" && -d "${WORK}" ]] || { echo "bench_remesh: --work DIR (a matrix work folder) is required" >&2; exit 2; }
+[[ "${NAME}" =~ ^[A-Za-z0-9_.-]+$ ]] || { echo "bench_remesh: --name must be a plain folder name" >&2; exit 2; }
+[[ -x "${BIN}" ]] || { echo "bench_remesh: ${BIN} not found; build first (bash scripts/build.sh)" >&2; exit 1; }
+WORK=$(cd "${WORK}" && pwd)
+if [[ -z "${CELLS}" ]]; then
+  CELLS=$(cd "${WORK}" && for d in */run1/ws/pipeline/mesh.done; do echo "${d%%/*}"; done | paste -sd, -)
+fi
+log() { echo "[bench_remesh $(date +%H:%M:%S)] $*"; }
+
+IFS=, read -r -a SELECTED <<< "${CELLS}"
+for cell in "${SELECTED[@]}"; do
+  run="${WORK}/${cell}/run1"
+  if [[ "${cell}" == kitti ]]; then
+    [[ -n "${KITTI}" ]] || { log "${cell}: skipped (no --kitti DIR)"; continue; }
+    dataset=$(cd "${KITTI}" && pwd)
+  else
+    dataset="${WORK}/${cell}/dataset"
+  fi
+  [[ -f "${run}/ws/pipeline/mesh.done" ]] || { log "${cell}: no finished run 1; skipped"; continue; }
+  out="${WORK}/${cell}/remesh/${NAME}"
+  rm -rf "${out}"
+  mkdir -p "${out}/ws"
+  cp -al "${run}/ws/." "${out}/ws/"
+  rm -f "${out}/ws/database.db" && cp "${run}/ws/database.db" "${out}/ws/database.db"
+  rm -rf "${out}/ws/eval" "${out}/ws/report" "${out}/ws/dense/meshed-delaunay.ply"
+  rm -f "${out}"/ws/pipeline/{mesh,evaluate,report}.done
+  log "${cell}: mesh + evaluate"
+  start=$(date +%s)
+  "${BIN}" automatic_reconstructor --workspace_path "${out}/ws" \
+    --dataset_path "${dataset}" --AutomaticReconstruction.stages mesh:evaluate \
+    --AutomaticReconstruction.evaluate_lidar_baseline 0 "$@" > "${out}/log" 2>&1 \
+    || { log "${cell}: failed (see ${out}/log)"; continue; }
+  log "${cell}: done in $(( $(date +%s) - start )) s"
+done
+/usr/bin/python3 - "${WORK}" "${NAME}" "${SELECTED[@]}" <<'PY'
+import json, os, sys
+work, name, cells = sys.argv[1], sys.argv[2], sys.argv[3:]
+def load(path):
+    return json.load(open(path)) if os.path.exists(path) else None
+def edge(j):
+    return j["edge_region"]["precision"][1] if j and "edge_region" in j else float("nan")
+print(f"| cell | F@0.02 / 0.05 / 0.1, {name} | run 1 | no lines | edge-region precision @0.05, {name} | run 1 | no lines |")
+print("|---|---|---|---|---|---|---|")
+for cell in cells:
+    base = os.path.join(work, cell, "run1")
+    new = load(os.path.join(work, cell, "remesh", name, "ws/eval/mesh_ours.json"))
+    old = load(os.path.join(base, "ws/eval/mesh_ours.json"))
+    nol = load(os.path.join(base, "matrix/nolines_eval/mesh_ours.json"))
+    if new is None:
+        continue
+    f = lambda j: " / ".join(f"{x:.3f}" for x in j["fscore"][:3]) if j else "-"
+    print(f"| {cell} | {f(new)} | {f(old)} | {f(nol)} | {edge(new):.4f} | {edge(old):.4f} | {edge(nol):.4f} |")
+PY
