@@ -7,7 +7,10 @@
 # Usage: scripts/fuzz.sh SECONDS [TARGET...]
 #   TARGET: ply pcd kitti_bin calibration poses kitti_calib model_bin
 #           model_txt dense_map fused_vis database options (default: all)
-# Environment: FUZZ_BUILD_DIR (default build-fuzz), FUZZ_JOBS (default 2).
+# Environment: FUZZ_BUILD_DIR (default build-fuzz), FUZZ_JOBS (default 2),
+# FUZZ_RUNS (stop each target after that many executions, SECONDS being the
+# cap: `FUZZ_RUNS=1000000 scripts/fuzz.sh 3600` is the benchmark of
+# docs/benchmarks/fuzz.md).
 # Seeds: tests/fuzz/corpus/<target> (small real files, committed; remake them
 # with scripts/fuzz_corpus.sh); what a run learns goes to
 # $FUZZ_BUILD_DIR/fuzz_corpus/<target>, crash inputs to
@@ -17,7 +20,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 1 ] || ! [[ $1 =~ ^[0-9]+$ ]]; then
-  sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'
   exit 2
 fi
 seconds=$1
