@@ -10,7 +10,8 @@
 #include <sstream>
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -20,8 +21,6 @@
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/resource_usage.h"
 #include "colmap_ext/util/string.h"
-
-extern char** environ;
 
 namespace colmap_lidar {
 namespace {
@@ -77,6 +76,15 @@ std::string JoinForDisplay(const std::vector<std::string>& args) {
 
 // Starts `args` with stdin from /dev/null and stdout/stderr into `out_fd`
 // and returns the child's pid. Throws when the process cannot be started.
+//
+// The child is killed with SIGKILL when the calling thread ends
+// (PR_SET_PDEATHSIG): a run of ours killed by a signal it cannot catch must
+// not leave stock colmap writing into the workspace (database.db, dense/)
+// that the resumed run is about to use. So the caller waits for the child in
+// the same thread (Wait), as every caller here does. fork + execv instead of
+// posix_spawn because the death signal is set in the child; between fork
+// and exec the child makes async-signal-safe calls only, and reports a
+// failed exec through a close-on-exec pipe.
 pid_t Spawn(const std::vector<std::string>& args, int out_fd) {
   std::vector<char*> argv;
   argv.reserve(args.size() + 1);
@@ -85,22 +93,55 @@ pid_t Spawn(const std::vector<std::string>& args, int out_fd) {
   }
   argv.push_back(nullptr);
 
-  posix_spawn_file_actions_t actions;
-  THROW_CHECK(posix_spawn_file_actions_init(&actions) == 0,
-              "posix_spawn_file_actions_init failed");
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null",
-                                   O_RDONLY, 0);
-  posix_spawn_file_actions_adddup2(&actions, out_fd, STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, out_fd, STDERR_FILENO);
-  posix_spawn_file_actions_addclose(&actions, out_fd);
-
-  pid_t pid = 0;
-  const int spawn_error =
-      posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  THROW_CHECK(spawn_error == 0, "Cannot start " << JoinForDisplay(args)
-                                                << ": "
-                                                << std::strerror(spawn_error));
+  int error_pipe[2];
+  THROW_CHECK(::pipe2(error_pipe, O_CLOEXEC) == 0,
+              "pipe failed: " << std::strerror(errno));
+  const pid_t parent_pid = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::close(error_pipe[0]);
+    int child_error = 0;
+    // getppid() != parent_pid: the parent died before prctl took effect.
+    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 ||
+        ::getppid() != parent_pid) {
+      ::_exit(127);
+    }
+    const int null_fd = ::open("/dev/null", O_RDONLY);
+    if (null_fd < 0 || ::dup2(null_fd, STDIN_FILENO) < 0 ||
+        ::dup2(out_fd, STDOUT_FILENO) < 0 || ::dup2(out_fd, STDERR_FILENO) < 0) {
+      child_error = errno;
+    } else {
+      ::execv(argv[0], argv.data());
+      child_error = errno;
+    }
+    const ssize_t ignored =
+        ::write(error_pipe[1], &child_error, sizeof(child_error));
+    (void)ignored;
+    ::_exit(127);
+  }
+  const int fork_error = errno;
+  ::close(error_pipe[1]);
+  if (pid < 0) {
+    ::close(error_pipe[0]);
+    THROW_ERROR("Cannot start " << JoinForDisplay(args)
+                                << ": fork failed: "
+                                << std::strerror(fork_error));
+  }
+  // EOF (0 bytes) when execv succeeded and closed the pipe.
+  int child_error = 0;
+  ssize_t num_read = 0;
+  while ((num_read = ::read(error_pipe[0], &child_error,
+                            sizeof(child_error))) == -1 &&
+         errno == EINTR) {
+  }
+  ::close(error_pipe[0]);
+  if (num_read == static_cast<ssize_t>(sizeof(child_error))) {
+    int status = 0;
+    while (::waitpid(pid, &status, 0) == -1 && errno == EINTR) {
+    }
+    THROW_ERROR("Cannot start " << JoinForDisplay(args) << ": "
+                                << std::strerror(child_error));
+  }
   return pid;
 }
 

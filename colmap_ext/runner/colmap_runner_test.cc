@@ -1,7 +1,14 @@
 #include "colmap_ext/runner/colmap_runner.h"
 
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -174,6 +181,80 @@ TEST(ColmapRunner, DefaultLogIsATempFile) {
   EXPECT_NE(ReadTextFile(runner.log_path()).find("database_creator"),
             std::string::npos);
   std::remove(runner.log_path().c_str());
+}
+
+// "R" (running), "S" (sleeping), "Z" (zombie) ... of /proc/<pid>/stat, or
+// "" once the process is gone.
+std::string ProcessState(const pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) {
+    return "";
+  }
+  const size_t paren = line.rfind(')');
+  return paren == std::string::npos || paren + 2 >= line.size()
+             ? ""
+             : line.substr(paren + 2, 1);
+}
+
+// A run of ours killed with SIGKILL (which it cannot catch) takes the stock
+// process it started with it, so that nothing keeps writing into a workspace
+// that a resumed run uses.
+TEST(ColmapRunner, ChildDiesWithItsParent) {
+  const std::string dir = testing::CreateTestDir();
+  const std::string pid_path = JoinPaths(dir, "child.pid");
+  const pid_t parent = ::fork();
+  ASSERT_GE(parent, 0);
+  if (parent == 0) {
+    // The child writes its pid, then sleeps far longer than the test.
+    try {
+      RunLoggedProcess({"/bin/sh", "-c",
+                        "echo $$ > '" + pid_path + "'.tmp && mv '" + pid_path +
+                            "'.tmp '" + pid_path + "' && exec sleep 300"},
+                       JoinPaths(dir, "log.txt"), 5, "sleeper");
+    } catch (...) {
+    }
+    ::_exit(0);
+  }
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!ExistsFile(pid_path) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(ExistsFile(pid_path));
+  const pid_t child = std::stoi(ReadTextFile(pid_path));
+  EXPECT_NE(ProcessState(child), "");
+  ASSERT_EQ(::kill(parent, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(parent, &status, 0), parent);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  // Gone, or a zombie waiting for init to reap it.
+  std::string state = ProcessState(child);
+  while (state != "" && state != "Z" &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    state = ProcessState(child);
+  }
+  EXPECT_TRUE(state == "" || state == "Z") << "state " << state;
+  if (state != "" && state != "Z") {
+    ::kill(child, SIGKILL);
+  }
+}
+
+TEST(ColmapRunner, ExecFailureIsReported) {
+  const std::string dir = testing::CreateTestDir();
+  // An executable file that the kernel cannot run.
+  const std::string bad = JoinPaths(dir, "not_a_program");
+  {
+    std::ofstream file(bad);
+    file << "\x7f" << "ELF garbage";
+  }
+  ASSERT_EQ(::chmod(bad.c_str(), 0755), 0);
+  const std::string message = ErrorMessage([&] {
+    RunLoggedProcess({bad}, JoinPaths(dir, "log.txt"), 5, "bad");
+  });
+  EXPECT_NE(message.find("Cannot start"), std::string::npos) << message;
+  EXPECT_NE(message.find("not_a_program"), std::string::npos) << message;
 }
 
 }  // namespace

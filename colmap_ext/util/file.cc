@@ -1,5 +1,7 @@
 #include "colmap_ext/util/file.h"
 
+#include "colmap_ext/util/stale_temporaries.h"
+
 #include <atomic>
 #include <chrono>
 #include <sstream>
@@ -105,6 +107,12 @@ StagedDirectory::StagedDirectory(const std::string& final_path)
   while (!final_path_.empty() && final_path_.back() == '/') {
     final_path_.pop_back();
   }
+  // What an earlier run, killed while building this folder, left beside it
+  // ("<name>.tmp-*" and "<name>.old.tmp-*"; nothing else of the parent).
+  const fs::path final_fs_path(final_path_);
+  const std::string parent = final_fs_path.parent_path().string();
+  RemoveStaleTemporaries(parent.empty() ? "." : parent, /*recursive=*/false,
+                         final_fs_path.filename().string() + ".");
   temp_path_ = TemporarySibling(final_path_);
   CreateDirIfNotExists(temp_path_);
 }

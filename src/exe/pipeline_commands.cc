@@ -41,6 +41,10 @@ void AddAutomaticReconstructionOptions(AutomaticReconstructorOptions* o,
                      "the full size.");
   options->AddOption(s + "fusion_min_num_pixels", &o->fusion_min_num_pixels,
                      "stereo_fusion --StereoFusion.min_num_pixels, >= 1.");
+  options->AddOption(s + "fusion_num_threads", &o->fusion_num_threads,
+                     "stereo_fusion --StereoFusion.num_threads; <= 0: "
+                     "num_threads. More than one makes the fused cloud and "
+                     "the mesh differ from run to run.");
   options->AddOption(s + "fusion_input_type", &o->fusion_input_type,
                      "stereo_fusion --input_type: geometric | photometric.");
   options->AddOption(s + "mesh_with_lines", &o->mesh_with_lines,

@@ -13,6 +13,7 @@
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/resource_usage.h"
+#include "colmap_ext/util/stale_temporaries.h"
 #include "colmap_ext/util/string.h"
 #include "src/dataset/poses.h"
 #include "src/eval/pose_evaluator.h"
@@ -45,13 +46,40 @@ std::string ImagePathFile(const PipelinePaths& paths) {
 }
 
 // The image folder recorded by the import stage (the workspace's copy, or
-// the recording's own folder when images are not copied).
+// the recording's own folder when images are not copied). A folder inside
+// the workspace is recorded relative to it, any other one as an absolute
+// path, so that the workspace can be resumed from any working directory and
+// moved or copied as a whole.
 std::string ImportedImagePath(const PipelinePaths& paths) {
   const std::string file = ImagePathFile(paths);
   if (!ExistsFile(file)) {
     return paths.images;
   }
-  return StringTrim(ReadTextFile(file));
+  const std::filesystem::path recorded(StringTrim(ReadTextFile(file)));
+  if (recorded.is_absolute()) {
+    return recorded.string();
+  }
+  const std::string in_workspace = JoinPaths(paths.workspace, recorded.string());
+  // Workspaces of earlier versions recorded a path relative to the working
+  // directory of their run.
+  return (ExistsDir(in_workspace) || !ExistsDir(recorded.string()))
+             ? in_workspace
+             : recorded.string();
+}
+
+void WriteImportedImagePath(const PipelinePaths& paths,
+                            const std::string& image_path) {
+  const std::filesystem::path image_dir =
+      std::filesystem::absolute(image_path).lexically_normal();
+  const std::filesystem::path relative = image_dir.lexically_relative(
+      std::filesystem::absolute(paths.workspace).lexically_normal());
+  const bool inside = !relative.empty() && *relative.begin() != "..";
+  const std::string recorded =
+      inside ? relative.string() : image_dir.string();
+  WriteFileAtomically(
+      ImagePathFile(paths),
+      [&recorded](std::ostream& stream) { stream << recorded << "\n"; },
+      /*binary=*/false);
 }
 
 size_t NumImagesWithPriors(const std::string& database_path) {
@@ -96,10 +124,7 @@ std::string RunImportStage(const PipelineContext& context) {
   const PipelinePaths& paths = context.paths;
   const ImportSummary summary = ImportDataset(
       context.dataset_path, paths.workspace, paths.database, options);
-  WriteFileAtomically(
-      ImagePathFile(paths),
-      [&summary](std::ostream& stream) { stream << summary.image_path << "\n"; },
-      /*binary=*/false);
+  WriteImportedImagePath(paths, summary.image_path);
   std::ostringstream note;
   note << summary.num_frames << " frames (" << summary.dataset_format << "), "
        << summary.num_new_images << " new images, "
@@ -228,7 +253,10 @@ std::string RunFusionStage(const PipelineContext& context) {
               {"workspace_format", "COLMAP"},
               {"input_type", options.fusion_input_type},
               {"output_path", temp_path},
-              {"StereoFusion.num_threads", std::to_string(options.num_threads)},
+              {"StereoFusion.num_threads",
+               std::to_string(options.fusion_num_threads > 0
+                                  ? options.fusion_num_threads
+                                  : options.num_threads)},
               {"StereoFusion.min_num_pixels",
                std::to_string(options.fusion_min_num_pixels)}});
   const size_t num_points = CountPlyVertices(temp_path);
@@ -482,6 +510,9 @@ AutomaticReconstructorSummary RunAutomaticReconstructor(
   context.paths = PipelinePaths(workspace_path);
   const PipelinePaths& paths = context.paths;
   CreateDirIfNotExists(paths.pipeline);
+  // What a run killed before left under temporary names (never read as
+  // output, but a killed PatchMatch leaves hundreds of megabytes).
+  RemoveStaleTemporaries(workspace_path, /*recursive=*/true);
   context.dataset_path = options.dataset_path.empty() ? paths.default_dataset
                                                       : options.dataset_path;
   context.colmap.colmap_binary = options.colmap_binary;

@@ -80,6 +80,12 @@ struct AutomaticReconstructorOptions {
   int dense_max_image_size = -1;
   // stereo_fusion's --StereoFusion.min_num_pixels (colmap's default 5).
   int fusion_min_num_pixels = 5;
+  // stereo_fusion's --StereoFusion.num_threads; <= 0: num_threads. With
+  // more than one thread stock stereo_fusion's output depends on the
+  // threads' timing (about 1 % of the points differ between two runs on the
+  // same depth maps), and so does the mesh; with one it is reproducible, for
+  // 1.2x the fusion time (seconds; a small part of the pipeline).
+  int fusion_num_threads = 1;
   // stereo_fusion's input: "geometric" (after the consistency pass, needs
   // patch_match.geom_consistency) or "photometric".
   std::string fusion_input_type = "geometric";
