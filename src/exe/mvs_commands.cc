@@ -121,6 +121,13 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddOption(s + "filter_max_relative_depth_error",
                      &o->filter_max_relative_depth_error,
                      "Consistency: relative depth error, > 0.");
+  options->AddOption(s + "filter_lidar_as_view", &o->filter_lidar_as_view,
+                     "Geometric maps, init lidar: agreeing with the "
+                     "interpolated LIDAR depth counts as one consistent "
+                     "view.");
+  options->AddOption(s + "filter_lidar_max_relative_depth_error",
+                     &o->filter_lidar_max_relative_depth_error,
+                     "... within this relative depth error of it, > 0.");
   options->AddOption(s + "num_threads", &o->num_threads,
                      "Threads; -1: all cores.");
   options->AddOption(s + "seed", &o->seed, "Random seed.");

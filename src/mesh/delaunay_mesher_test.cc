@@ -128,6 +128,18 @@ TEST(DelaunayMesher, BoxOnGroundIsAccurateClosedAndComplete) {
   EXPECT_GT(num_side, 100);
   EXPECT_GE(num_up, 0.98 * num_top);
   EXPECT_GE(num_out, 0.98 * num_side);
+
+  // Faces in canonical order (each from its smallest vertex, sorted), so
+  // that a run with threads gives the same file as any other.
+  EXPECT_TRUE(std::is_sorted(mesh.faces.begin(), mesh.faces.end()));
+  for (const std::array<uint32_t, 3>& face : mesh.faces) {
+    ASSERT_LT(face[0], face[1]);
+    ASSERT_LT(face[0], face[2]);
+  }
+  // A second run (2 threads, as the first).
+  const TriangleMesh again = DelaunayMeshing(TestOptions(), input);
+  EXPECT_EQ(again.faces, mesh.faces);
+  EXPECT_EQ(again.vertices, mesh.vertices);
 }
 
 TEST(DelaunayMesher, FreeSpaceCarvingRemovesOutliers) {

@@ -13,29 +13,33 @@ namespace {
 
 constexpr int kMaxWalkSteps = 1000000;
 
-void AtomicAdd(std::atomic<float>* target, float value) {
-  float expected = target->load(std::memory_order_relaxed);
-  while (!target->compare_exchange_weak(expected, expected + value,
-                                        std::memory_order_relaxed)) {
-  }
-}
-
+// Weights summed by several threads in fixed point: integer additions do
+// not depend on their order (float additions in the threads' order differ
+// in the last bits, enough to flip near-tied cells of the graph cut).
+// Resolution 2^-24 (6e-8) of a ray weight, range 5e11.
 class AtomicArray {
  public:
   explicit AtomicArray(size_t size)
-      : size_(size), data_(new std::atomic<float>[size]) {
-    for (size_t i = 0; i < size; ++i) data_[i].store(0.f);
+      : size_(size), data_(new std::atomic<int64_t>[size]) {
+    for (size_t i = 0; i < size; ++i) data_[i].store(0);
   }
-  void Add(size_t idx, float value) { AtomicAdd(&data_[idx], value); }
+  void Add(size_t idx, float value) {
+    data_[idx].fetch_add(std::llround(static_cast<double>(value) * kScale),
+                         std::memory_order_relaxed);
+  }
   std::vector<float> ToVector() const {
     std::vector<float> values(size_);
-    for (size_t i = 0; i < size_; ++i) values[i] = data_[i].load();
+    for (size_t i = 0; i < size_; ++i) {
+      values[i] = static_cast<float>(static_cast<double>(data_[i].load()) /
+                                     kScale);
+    }
     return values;
   }
 
  private:
+  static constexpr double kScale = 16777216.0;  // 2^24.
   size_t size_;
-  std::unique_ptr<std::atomic<float>[]> data_;
+  std::unique_ptr<std::atomic<int64_t>[]> data_;
 };
 
 // The tetrahedron of a finite cell with vertex k replaced by `point`:

@@ -1,12 +1,15 @@
 #include "src/mvs/lidar_patch_match_stereo.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <chrono>
 #include <map>
 #include <memory>
 #include <unordered_map>
 
 #include <glog/logging.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "colmap_ext/mvs/stereo_config.h"
 #include "colmap_ext/mvs/workspace.h"
@@ -56,6 +59,35 @@ void WriteMaps(const DenseWorkspace& workspace, const std::string& name,
   // would abort stock fusion (colmap-formats.md 4.2).
   ToNormalMap(map).Write(normal_path);
   ToDepthMap(map).Write(depth_path);
+}
+
+std::string FusionMaskPath(const DenseWorkspace& workspace,
+                           const std::string& name) {
+  return JoinPaths(FusionMaskDir(workspace.Path()), name + ".png");
+}
+
+// 8-bit PNG, 0 where `kept_by_lidar` is 1, else 255 (stereo_fusion skips the
+// pixels of a mask that are 0).
+void WriteFusionMask(const std::string& path,
+                     const std::vector<uint8_t>& kept_by_lidar, int width,
+                     int height) {
+  THROW_CHECK(kept_by_lidar.size() == static_cast<size_t>(width) * height,
+              "fusion mask of " << kept_by_lidar.size() << " pixels for "
+                                << width << "x" << height << ": " << path);
+  cv::Mat mask(height, width, CV_8UC1);
+  for (int row = 0; row < height; ++row) {
+    for (int col = 0; col < width; ++col) {
+      mask.at<uint8_t>(row, col) =
+          kept_by_lidar[static_cast<size_t>(row) * width + col] ? 0 : 255;
+    }
+  }
+  std::vector<uchar> png;
+  THROW_CHECK(cv::imencode(".png", mask, png), "Cannot encode " << path);
+  CreateParentDir(path);
+  WriteFileAtomically(path, [&png](std::ostream& stream) {
+    stream.write(reinterpret_cast<const char*>(png.data()),
+                 static_cast<std::streamsize>(png.size()));
+  });
 }
 
 // Views and maps loaded on demand, keeping only what the current reference
@@ -196,6 +228,10 @@ ReferenceInit InitializeReference(
     init.prior_depth = DensePriorDepth(init.state);
   }
   return init;
+}
+
+std::string FusionMaskDir(const std::string& workspace_path) {
+  return JoinPaths(workspace_path, "stereo/fusion_masks");
 }
 
 LidarPatchMatchSummary RunLidarPatchMatchStereo(
@@ -349,12 +385,16 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
                                    Percentile(depths, 0.0) / 1.2f);
       problem.depth_max = Percentile(depths, 1.0) * 1.2f;
       // The geometric pass keeps the soft LIDAR prior of the photometric one.
+      // The consistency filter may count it as a view.
       std::vector<float> prior_depth;
-      if (!options.RandomInit() && options.lidar_prior_weight > 0) {
+      if (!options.RandomInit() && (options.lidar_prior_weight > 0 ||
+                                    options.filter_lidar_as_view)) {
         prior_depth = InitializeReference(ref, FeaturesOf(model, image),
                                           &lidar, options)
                           .prior_depth;
-        problem.prior_depth = &prior_depth;
+      }
+      if (options.lidar_prior_weight > 0) {
+        problem.prior_depth = prior_depth.empty() ? nullptr : &prior_depth;
       }
       RunPatchMatch(problem, options, options.num_geom_iterations,
                     static_cast<uint64_t>(options.seed) * 7919 + job.ref_idx +
@@ -364,11 +404,25 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
                                     options.geom_consistency_regularizer *
                                         options.filter_max_reproj_error),
                  prior_depth, options, &state);
-      const size_t kept = FilterByConsistency(cost, options, &state);
+      std::vector<uint8_t> kept_by_lidar;
+      const size_t kept = FilterByConsistency(cost, options, prior_depth,
+                                              &state, &kept_by_lidar);
+      // The mask before the maps: maps that exist (done, on a resume)
+      // always have theirs.
+      const std::string mask_path = FusionMaskPath(workspace, image.name);
+      size_t num_kept_by_lidar = 0;
+      if (options.filter_lidar_as_view && !prior_depth.empty()) {
+        for (const uint8_t flag : kept_by_lidar) num_kept_by_lidar += flag;
+        WriteFusionMask(mask_path, kept_by_lidar, state.width, state.height);
+      } else {
+        std::filesystem::remove(mask_path);
+      }
+      summary.num_kept_by_lidar += num_kept_by_lidar;
       WriteMaps(workspace, image.name, DenseMapType::kGeometric, state);
       ++summary.num_geometric_computed;
       LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
-                << ": geometric, " << kept << " valid pixels, "
+                << ": geometric, " << kept << " valid pixels ("
+                << num_kept_by_lidar << " by one view and the LIDAR), "
                 << Seconds(image_start) << " s";
     }
   }

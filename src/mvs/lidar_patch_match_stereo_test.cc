@@ -115,13 +115,19 @@ double DistanceToScene(const Eigen::Vector3d& point) {
   return best;
 }
 
+// Few iterations (the LIDAR initialisation is close), 2 threads.
+LidarPatchMatchOptions QuickOptions(int num_iterations) {
+  LidarPatchMatchOptions options;
+  options.num_iterations = num_iterations;
+  options.num_geom_iterations = 1;
+  options.num_threads = 2;
+  return options;
+}
+
 TEST(LidarPatchMatchStereo, WritesMapsThatStockFusionTurnsIntoTheSurface) {
   const std::string path = JoinPaths(testing::CreateTestDir(), "dense");
   const std::vector<std::vector<float>> gt = WriteWorkspace(path);
-  LidarPatchMatchOptions options;
-  options.num_iterations = 3;
-  options.num_geom_iterations = 1;
-  options.num_threads = 2;
+  const LidarPatchMatchOptions options = QuickOptions(3);
   const LidarPatchMatchSummary summary = RunLidarPatchMatchStereo(path, options);
   EXPECT_EQ(summary.num_references, kNumViews);
   EXPECT_EQ(summary.num_photometric_computed, kNumViews);
@@ -181,6 +187,65 @@ TEST(LidarPatchMatchStereo, WritesMapsThatStockFusionTurnsIntoTheSurface) {
   EXPECT_EQ(again.num_photometric_computed + again.num_geometric_computed, 0);
   EXPECT_EQ(before, ReadTextFile(workspace.DepthMapPath(
                         "v3.png", DenseMapType::kGeometric)));
+}
+
+// The LIDAR as one more consistent view of the geometric filter: with more
+// consistent views required than there are sources (4), only pixels that
+// the LIDAR confirms can pass, and they lie on the surface.
+TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
+  const std::string path = JoinPaths(testing::CreateTestDir(), "dense");
+  const std::vector<std::vector<float>> gt = WriteWorkspace(path);
+  LidarPatchMatchOptions options = QuickOptions(2);
+  options.filter_min_num_consistent = kNumViews;
+  const DenseWorkspace workspace(path);
+  const auto count = [&](size_t* num_accurate) {
+    const DepthMap depth = DepthMap::Read(
+        workspace.DepthMapPath("v2.png", DenseMapType::kGeometric));
+    size_t num_valid = 0;
+    *num_accurate = 0;
+    for (int r = 0; r < kHeight; ++r) {
+      for (int c = 0; c < kWidth; ++c) {
+        if (depth.IsValid(r, c)) {
+          ++num_valid;
+          *num_accurate +=
+              std::abs(depth.Get(r, c) - gt[2][r * kWidth + c]) < 0.05;
+        }
+      }
+    }
+    return num_valid;
+  };
+  const std::string mask_path =
+      JoinPaths(FusionMaskDir(path), "v2.png.png");
+  options.filter_lidar_as_view = false;
+  RunLidarPatchMatchStereo(path, options);
+  size_t num_accurate = 0;
+  EXPECT_EQ(count(&num_accurate), 0u);
+  EXPECT_FALSE(ExistsFile(mask_path));
+
+  options.filter_lidar_as_view = true;
+  options.overwrite = true;
+  RunLidarPatchMatchStereo(path, options);
+  const size_t num_valid = count(&num_accurate);
+  std::cout << num_valid << " pixels confirmed by 4 views and the LIDAR, "
+            << num_accurate << " within 5 cm" << std::endl;
+  EXPECT_GT(num_valid, kWidth * kHeight / 4);
+  EXPECT_GT(num_accurate, num_valid * 98 / 100);
+
+  // Every one of them needed the LIDAR: the fusion mask excludes exactly
+  // the valid pixels.
+  const cv::Mat mask = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(mask.empty()) << mask_path;
+  ASSERT_EQ(mask.type(), CV_8UC1);
+  ASSERT_EQ(mask.cols, kWidth);
+  ASSERT_EQ(mask.rows, kHeight);
+  const DepthMap depth = DepthMap::Read(
+      workspace.DepthMapPath("v2.png", DenseMapType::kGeometric));
+  for (int r = 0; r < kHeight; ++r) {
+    for (int c = 0; c < kWidth; ++c) {
+      ASSERT_EQ(mask.at<uint8_t>(r, c), depth.IsValid(r, c) ? 0 : 255)
+          << r << " " << c;
+    }
+  }
 }
 
 TEST(LidarPatchMatchStereo, LidarInitNeedsTheFusedCloud) {

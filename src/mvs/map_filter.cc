@@ -43,19 +43,37 @@ size_t FilterByCostOrPrior(float max_cost, const std::vector<float>& prior_depth
 
 size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,
-                           PlaneMap* map) {
+                           const std::vector<float>& lidar_depth,
+                           PlaneMap* map,
+                           std::vector<uint8_t>* kept_by_lidar) {
   THROW_CHECK(cost.HasSourceMaps(),
               "consistency filter of " << cost.Ref().name
                                        << " without source maps");
+  const float max_lidar_relative =
+      static_cast<float>(options.filter_lidar_max_relative_depth_error);
+  const bool lidar_votes =
+      options.filter_lidar_as_view && !lidar_depth.empty();
+  THROW_CHECK(!lidar_votes || lidar_depth.size() == map->depth.size(),
+              "LIDAR depth of " << lidar_depth.size() << " pixels for a map of "
+                                << map->depth.size());
   const float max_reproj = static_cast<float>(options.filter_max_reproj_error);
   const float max_relative =
       static_cast<float>(options.filter_max_relative_depth_error);
+  if (kept_by_lidar != nullptr) {
+    kept_by_lidar->assign(map->depth.size(), 0);
+  }
   ParallelForRows(map->height, options.num_threads, [&](int row) {
     for (int col = 0; col < map->width; ++col) {
       const size_t i = map->Index(row, col);
       const float depth = map->depth[i];
       if (!(depth > 0)) continue;
       int num_consistent = 0;
+      const bool lidar_agrees =
+          lidar_votes && lidar_depth[i] > 0 &&
+          std::abs(depth - lidar_depth[i]) <= max_lidar_relative * lidar_depth[i];
+      if (lidar_agrees) {
+        ++num_consistent;
+      }
       for (int s = 0; s < cost.NumSources(); ++s) {
         if (cost.ReprojectionError(s, row, col, depth) <= max_reproj &&
             cost.SourceDepthError(s, row, col, depth) <= max_relative) {
@@ -65,6 +83,9 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
       if (num_consistent < options.filter_min_num_consistent) {
         map->depth[i] = 0.0f;
         map->normal[i].setZero();
+      } else if (lidar_agrees && kept_by_lidar != nullptr &&
+                 num_consistent == options.filter_min_num_consistent) {
+        (*kept_by_lidar)[i] = 1;
       }
     }
   });

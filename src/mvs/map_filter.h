@@ -6,6 +6,9 @@
 // relative depth error <= filter_max_relative_depth_error).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "src/mvs/ncc_cost.h"
 #include "src/mvs/patch_match_options.h"
 #include "src/mvs/plane_map.h"
@@ -23,9 +26,17 @@ size_t FilterByCost(float max_cost, PlaneMap* map);
 size_t FilterByCostOrPrior(float max_cost, const std::vector<float>& prior_depth,
                            float prior_tolerance, PlaneMap* map);
 
-// Needs cost.HasSourceMaps(). Returns the number of pixels kept.
+// Needs cost.HasSourceMaps(). `lidar_depth` (row-major of the map's size,
+// 0: none; may be empty) is the interpolated LIDAR depth: with
+// options.filter_lidar_as_view, agreeing with it within
+// filter_lidar_max_relative_depth_error counts as one consistent view.
+// `kept_by_lidar` (optional) is set to the map's size, 1 where a pixel was
+// kept only thanks to that vote, 0 elsewhere. Returns the number of pixels
+// kept.
 size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,
-                           PlaneMap* map);
+                           const std::vector<float>& lidar_depth,
+                           PlaneMap* map,
+                           std::vector<uint8_t>* kept_by_lidar = nullptr);
 
 }  // namespace colmap_lidar

@@ -71,6 +71,9 @@ bool LidarPatchMatchOptions::Check() const {
   if (!(filter_max_relative_depth_error > 0)) {
     return Fail("filter_max_relative_depth_error must be > 0");
   }
+  if (!(filter_lidar_max_relative_depth_error > 0)) {
+    return Fail("filter_lidar_max_relative_depth_error must be > 0");
+  }
   return true;
 }
 

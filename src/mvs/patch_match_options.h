@@ -87,6 +87,14 @@ struct LidarPatchMatchOptions {
   // Consistency: reprojection error, pixels, and relative depth error.
   double filter_max_reproj_error = 1.0;
   double filter_max_relative_depth_error = 0.01;
+  // Geometric maps, init lidar: a pixel whose depth is within
+  // filter_max_relative_depth_error of the initialisation's interpolated
+  // LIDAR (and sparse feature) depth counts as one more consistent view. The LIDAR measures the surface
+  // independently of the images, so one source view plus the LIDAR confirm
+  // a pixel as well as two source views do.
+  bool filter_lidar_as_view = true;
+  // ... within this relative depth error of the LIDAR depth, > 0.
+  double filter_lidar_max_relative_depth_error = 0.01;
 
   // Threads; <= 0: all cores.
   int num_threads = -1;

@@ -248,17 +248,24 @@ std::string RunFusionStage(const PipelineContext& context) {
                   "the dense workspace (stage dense)");
   const std::string temp_path = JoinPaths(paths.dense, "fused.tmp-run.ply");
   const ColmapRunner colmap(context.colmap);
-  colmap.Run("stereo_fusion",
-             {{"workspace_path", paths.dense},
-              {"workspace_format", "COLMAP"},
-              {"input_type", options.fusion_input_type},
-              {"output_path", temp_path},
-              {"StereoFusion.num_threads",
-               std::to_string(options.fusion_num_threads > 0
-                                  ? options.fusion_num_threads
-                                  : options.num_threads)},
-              {"StereoFusion.min_num_pixels",
-               std::to_string(options.fusion_min_num_pixels)}});
+  std::vector<std::pair<std::string, std::string>> fusion_options = {
+      {"workspace_path", paths.dense},
+      {"workspace_format", "COLMAP"},
+      {"input_type", options.fusion_input_type},
+      {"output_path", temp_path},
+      {"StereoFusion.num_threads",
+       std::to_string(options.fusion_num_threads > 0
+                          ? options.fusion_num_threads
+                          : options.num_threads)},
+      {"StereoFusion.min_num_pixels",
+       std::to_string(options.fusion_min_num_pixels)}};
+  // The geometric pixels that only one view and the LIDAR confirmed stay
+  // out of the cloud (lidar_patch_match_stereo.h).
+  const std::string mask_dir = FusionMaskDir(paths.dense);
+  if (options.fusion_input_type == "geometric" && ExistsDir(mask_dir)) {
+    fusion_options.emplace_back("StereoFusion.mask_path", mask_dir);
+  }
+  colmap.Run("stereo_fusion", fusion_options);
   const size_t num_points = CountPlyVertices(temp_path);
   THROW_CHECK(num_points > 0,
               "stereo_fusion fused no point from the depth maps of "
