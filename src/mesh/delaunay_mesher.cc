@@ -91,10 +91,9 @@ TriangleMesh ExtractSurface(const MeshingTriangulation& triangulation,
       mesh.faces.push_back({v[0]->info(), v[1]->info(), v[2]->info()});
     }
   }
-  // The cells' order (CGAL's parallel insertion) varies from run to run;
-  // faces in a canonical order (each from its smallest vertex index, which
-  // keeps its orientation, then sorted) make the same input give the same
-  // file.
+  // Faces in a canonical order (each from its smallest vertex index, which
+  // keeps its orientation, then sorted), not in the cells' order, so that
+  // equal surfaces give equal files.
   for (std::array<uint32_t, 3>& face : mesh.faces) {
     std::rotate(face.begin(), std::min_element(face.begin(), face.end()),
                 face.end());
