@@ -226,18 +226,38 @@ int EffectiveNumThreads(int num_threads) {
 }
 
 double LowerQuartileEdgeLength(const MeshingTriangulation& triangulation) {
+  // Each finite edge once, sampled in an order that does not depend on
+  // memory addresses: CGAL's edge iterator picks an edge's representative
+  // cell by comparing cell handles (addresses), so a strided sample of it
+  // changed with the heap's layout, and with it sigma and the mesh (two
+  // surfaces 0.04 % of the faces apart on the same input). Here an edge
+  // belongs to its finite incident cell of the smallest index.
   const MeshDelaunay& delaunay = triangulation.delaunay;
   const size_t num_edges = delaunay.number_of_finite_edges();
   const size_t stride = std::max<size_t>(1, num_edges / 1000000);
   std::vector<double> lengths;
   lengths.reserve(num_edges / stride + 1);
-  size_t i = 0;
-  for (auto it = delaunay.finite_edges_begin();
-       it != delaunay.finite_edges_end(); ++it, ++i) {
-    if (i % stride != 0) continue;
-    lengths.push_back(std::sqrt(CGAL::squared_distance(
-        it->first->vertex(it->second)->point(),
-        it->first->vertex(it->third)->point())));
+  size_t edge_idx = 0;
+  for (const MeshCellHandle& cell : triangulation.cells) {
+    if (delaunay.is_infinite(cell)) continue;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i + 1; j < 4; ++j) {
+        bool owner = true;
+        MeshDelaunay::Cell_circulator circulator =
+            delaunay.incident_cells(cell, i, j);
+        const MeshDelaunay::Cell_circulator done = circulator;
+        do {
+          if (!delaunay.is_infinite(circulator) &&
+              circulator->info() < cell->info()) {
+            owner = false;
+            break;
+          }
+        } while (++circulator != done);
+        if (!owner || edge_idx++ % stride != 0) continue;
+        lengths.push_back(std::sqrt(CGAL::squared_distance(
+            cell->vertex(i)->point(), cell->vertex(j)->point())));
+      }
+    }
   }
   if (lengths.empty()) return 0;
   auto quartile = lengths.begin() + lengths.size() / 4;
