@@ -106,7 +106,8 @@ pid_t Spawn(const std::vector<std::string>& args, int out_fd) {
         ::getppid() != parent_pid) {
       ::_exit(127);
     }
-    const int null_fd = ::open("/dev/null", O_RDONLY);
+    // Close-on-exec: only its duplicate on stdin reaches colmap.
+    const int null_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
     if (null_fd < 0 || ::dup2(null_fd, STDIN_FILENO) < 0 ||
         ::dup2(out_fd, STDOUT_FILENO) < 0 || ::dup2(out_fd, STDERR_FILENO) < 0) {
       child_error = errno;

@@ -3,7 +3,8 @@
 // and remove them when they fail; a process killed by a signal it cannot
 // catch (SIGKILL, the OOM killer, a power cut) leaves them behind. They are
 // never taken for output (nothing reads a temporary name), but a killed
-// PatchMatch or meshing stage can leave hundreds of megabytes.
+// stage can leave the size of its output (the dense stage: a copy of every
+// undistorted image).
 #pragma once
 
 #include <string>

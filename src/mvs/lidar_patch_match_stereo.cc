@@ -1,8 +1,8 @@
 #include "src/mvs/lidar_patch_match_stereo.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <chrono>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <unordered_map>

@@ -518,7 +518,8 @@ AutomaticReconstructorSummary RunAutomaticReconstructor(
   const PipelinePaths& paths = context.paths;
   CreateDirIfNotExists(paths.pipeline);
   // What a run killed before left under temporary names (never read as
-  // output, but a killed PatchMatch leaves hundreds of megabytes).
+  // output, but a killed dense stage leaves a copy of every undistorted
+  // image).
   RemoveStaleTemporaries(workspace_path, /*recursive=*/true);
   context.dataset_path = options.dataset_path.empty() ? paths.default_dataset
                                                       : options.dataset_path;
