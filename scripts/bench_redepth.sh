@@ -20,29 +20,14 @@
 #     --dataset_path DIR/CELL/dataset --AutomaticReconstruction.stages fusion:evaluate
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ROOT=$(pwd)
-BIN="${COLMAP_LIDAR_BIN:-${ROOT}/build/colmap-lidar}"
-WORK=""
-NAME=""
-CELLS=""
-while [[ $# -gt 0 ]]; do
-  case "$1" in
-    --work) WORK=$2; shift 2 ;;
-    --name) NAME=$2; shift 2 ;;
-    --cells) CELLS=$2; shift 2 ;;
-    --) shift; break ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
-    *) echo "bench_redepth: unknown argument $1" >&2; exit 2 ;;
-  esac
-done
-[[ -n "${WORK}" && -d "${WORK}" ]] || { echo "bench_redepth: --work DIR (a matrix work folder) is required" >&2; exit 2; }
-[[ "${NAME}" =~ ^[A-Za-z0-9_.-]+$ ]] || { echo "bench_redepth: --name must be a plain folder name" >&2; exit 2; }
-[[ -x "${BIN}" ]] || { echo "bench_redepth: ${BIN} not found; build first (bash scripts/build.sh)" >&2; exit 1; }
-WORK=$(cd "${WORK}" && pwd)
+TOOL=bench_redepth
+HELP_LINES=2,20
+ALLOW_KITTI=0
+source scripts/matrix_variant_lib.sh
+variant_parse_args "$@"
 if [[ -z "${CELLS}" ]]; then
   CELLS=$(cd "${WORK}" && for d in */run1/ws/eval/depth_maps.json; do echo "${d%%/*}"; done | paste -sd, -)
 fi
-log() { echo "[bench_redepth $(date +%H:%M:%S)] $*"; }
 
 IFS=, read -r -a SELECTED <<< "${CELLS}"
 for cell in "${SELECTED[@]}"; do
@@ -53,17 +38,14 @@ for cell in "${SELECTED[@]}"; do
     continue
   fi
   out="${WORK}/${cell}/redepth/${NAME}"
-  rm -rf "${out}"
-  mkdir -p "${out}/ws"
-  cp -al "${run}/ws/." "${out}/ws/"
-  rm -f "${out}/ws/database.db" && cp "${run}/ws/database.db" "${out}/ws/database.db"
-  rm -rf "${out}/ws/eval" "${out}/ws/report" "${out}/ws/dense/stereo/fusion_masks"
+  variant_copy_run1 "${run}" "${out}"
+  rm -rf "${out}/ws/dense/stereo/fusion_masks"
   rm -f "${out}"/ws/dense/stereo/{depth,normal}_maps/*.geometric.bin
   rm -f "${out}"/ws/pipeline/{patch_match,fusion,mesh,evaluate,report}.done
   log "${cell}: geometric pass + depth evaluation"
   start=$(date +%s)
   { "${BIN}" automatic_reconstructor --workspace_path "${out}/ws" \
-      --dataset_path "${dataset}" --AutomaticReconstruction.stages patch_match "$@" &&
+      --dataset_path "${dataset}" --AutomaticReconstruction.stages patch_match "${EXTRA_ARGS[@]}" &&
     "${BIN}" depth_evaluator --workspace_path "${out}/ws/dense" \
       --dataset_path "${dataset}" --output_path "${out}/depth_maps.json" \
       --DepthEvaluation.map_types geometric; } > "${out}/log" 2>&1 \

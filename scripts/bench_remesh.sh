@@ -17,31 +17,14 @@
 # COLMAP_LIDAR_BIN selects the binary (default build/colmap-lidar).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ROOT=$(pwd)
-BIN="${COLMAP_LIDAR_BIN:-${ROOT}/build/colmap-lidar}"
-WORK=""
-NAME=""
-CELLS=""
-KITTI=""
-while [[ $# -gt 0 ]]; do
-  case "$1" in
-    --work) WORK=$2; shift 2 ;;
-    --name) NAME=$2; shift 2 ;;
-    --cells) CELLS=$2; shift 2 ;;
-    --kitti) KITTI=$2; shift 2 ;;
-    --) shift; break ;;
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
-    *) echo "bench_remesh: unknown argument $1" >&2; exit 2 ;;
-  esac
-done
-[[ -n "${WORK}" && -d "${WORK}" ]] || { echo "bench_remesh: --work DIR (a matrix work folder) is required" >&2; exit 2; }
-[[ "${NAME}" =~ ^[A-Za-z0-9_.-]+$ ]] || { echo "bench_remesh: --name must be a plain folder name" >&2; exit 2; }
-[[ -x "${BIN}" ]] || { echo "bench_remesh: ${BIN} not found; build first (bash scripts/build.sh)" >&2; exit 1; }
-WORK=$(cd "${WORK}" && pwd)
+TOOL=bench_remesh
+HELP_LINES=2,17
+ALLOW_KITTI=1
+source scripts/matrix_variant_lib.sh
+variant_parse_args "$@"
 if [[ -z "${CELLS}" ]]; then
   CELLS=$(cd "${WORK}" && for d in */run1/ws/pipeline/mesh.done; do echo "${d%%/*}"; done | paste -sd, -)
 fi
-log() { echo "[bench_remesh $(date +%H:%M:%S)] $*"; }
 
 IFS=, read -r -a SELECTED <<< "${CELLS}"
 for cell in "${SELECTED[@]}"; do
@@ -54,17 +37,14 @@ for cell in "${SELECTED[@]}"; do
   fi
   [[ -f "${run}/ws/pipeline/mesh.done" ]] || { log "${cell}: no finished run 1; skipped"; continue; }
   out="${WORK}/${cell}/remesh/${NAME}"
-  rm -rf "${out}"
-  mkdir -p "${out}/ws"
-  cp -al "${run}/ws/." "${out}/ws/"
-  rm -f "${out}/ws/database.db" && cp "${run}/ws/database.db" "${out}/ws/database.db"
-  rm -rf "${out}/ws/eval" "${out}/ws/report" "${out}/ws/dense/meshed-delaunay.ply"
+  variant_copy_run1 "${run}" "${out}"
+  rm -f "${out}/ws/dense/meshed-delaunay.ply"
   rm -f "${out}"/ws/pipeline/{mesh,evaluate,report}.done
   log "${cell}: mesh + evaluate"
   start=$(date +%s)
   "${BIN}" automatic_reconstructor --workspace_path "${out}/ws" \
     --dataset_path "${dataset}" --AutomaticReconstruction.stages mesh:evaluate \
-    --AutomaticReconstruction.evaluate_lidar_baseline 0 "$@" > "${out}/log" 2>&1 \
+    --AutomaticReconstruction.evaluate_lidar_baseline 0 "${EXTRA_ARGS[@]}" > "${out}/log" 2>&1 \
     || { log "${cell}: failed (see ${out}/log)"; continue; }
   log "${cell}: done in $(( $(date +%s) - start )) s"
 done
