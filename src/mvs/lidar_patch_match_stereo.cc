@@ -74,13 +74,9 @@ void WriteFusionMask(const std::string& path,
   THROW_CHECK(kept_by_lidar.size() == static_cast<size_t>(width) * height,
               "fusion mask of " << kept_by_lidar.size() << " pixels for "
                                 << width << "x" << height << ": " << path);
-  cv::Mat mask(height, width, CV_8UC1);
-  for (int row = 0; row < height; ++row) {
-    for (int col = 0; col < width; ++col) {
-      mask.at<uint8_t>(row, col) =
-          kept_by_lidar[static_cast<size_t>(row) * width + col] ? 0 : 255;
-    }
-  }
+  const cv::Mat flags(height, width, CV_8UC1,
+                      const_cast<uint8_t*>(kept_by_lidar.data()));
+  const cv::Mat mask = flags == 0;  // 255 where true.
   std::vector<uchar> png;
   THROW_CHECK(cv::imencode(".png", mask, png), "Cannot encode " << path);
   CreateParentDir(path);
