@@ -114,6 +114,14 @@ TEST(AutomaticReconstructor, SmallSceneEndToEnd) {
     EXPECT_TRUE(ExistsFile(JoinPaths(paths.report, png))) << png;
   }
 
+  // Fusion leaves out the pixels that only one view and the LIDAR confirmed
+  // (the masks PatchMatch wrote).
+  ASSERT_TRUE(ExistsDir(JoinPaths(paths.dense, "stereo/fusion_masks")));
+  EXPECT_NE(ReadTextFile(JoinPaths(paths.pipeline, "colmap.log"))
+                .find("--StereoFusion.mask_path " +
+                      JoinPaths(paths.dense, "stereo/fusion_masks")),
+            std::string::npos);
+
   // A second run resumes: everything is marked done.
   const AutomaticReconstructorSummary again =
       RunAutomaticReconstructor(workspace, options);
