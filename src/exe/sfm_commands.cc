@@ -152,6 +152,17 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "mapper), priors, or lidar_graph (a pose graph of "
                      "LIDAR scan registrations between consecutive and "
                      "nearby frames with the priors as unary factors).");
+  options->AddOption(s + "lidar_edge_noise", &o->lidar_graph.edge_noise.enabled,
+                     "init_method lidar_graph: measure the registration "
+                     "edges' noise per sensor axis from the graph's loop "
+                     "closures; add it where it exceeds the registrations' "
+                     "floor sigmas (a corridor's axis), lower the floor "
+                     "where the closures are cleaner, 0/1.");
+  options->AddOption(s + "lidar_graph_skip_one_candidates",
+                     &o->lidar_graph.skip_one_candidates,
+                     "init_method lidar_graph: frame i + 2 is a loop "
+                     "candidate of frame i however far apart their priors "
+                     "are (its overlap decides), 0/1.");
   options->AddOption(s + "init_model_path", &o->init_model_path,
                      "Sparse model for init_method model.");
   options->AddOption(s + "init_min_num_inliers", &o->init_min_num_inliers,

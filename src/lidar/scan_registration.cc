@@ -258,30 +258,6 @@ Rigid3d RefinePointToPlane(const Level& source, const Level& target,
   return target_from_source;
 }
 
-// Caps the information at the floor sigmas: in the space scaled by them
-// (unit = one floor sigma) no eigenvalue may exceed 1.
-Eigen::Matrix<double, 6, 6> CapInformation(
-    const Eigen::Matrix<double, 6, 6>& information,
-    const ScanRegistrationOptions& options) {
-  Eigen::Matrix<double, 6, 1> floor_sigma;
-  const double rotation_sigma = options.min_rotation_sigma_deg * kPi / 180.0;
-  floor_sigma << rotation_sigma, rotation_sigma, rotation_sigma,
-      options.min_translation_sigma_m, options.min_translation_sigma_m,
-      options.min_translation_sigma_m;
-  const Eigen::Matrix<double, 6, 6> scale = floor_sigma.asDiagonal();
-  const Eigen::Matrix<double, 6, 6> scaled = scale * information * scale;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(
-      0.5 * (scaled + scaled.transpose()));
-  const Eigen::Matrix<double, 6, 1> values =
-      solver.eigenvalues().cwiseMax(0.0).cwiseMin(1.0);
-  const Eigen::Matrix<double, 6, 6> capped = solver.eigenvectors() *
-                                             values.asDiagonal() *
-                                             solver.eigenvectors().transpose();
-  const Eigen::Matrix<double, 6, 6> inverse_scale =
-      floor_sigma.cwiseInverse().asDiagonal();
-  return inverse_scale * capped * inverse_scale;
-}
-
 }  // namespace
 
 struct PreparedScan::Data {
@@ -480,8 +456,37 @@ ScanRegistrationResult RegisterScans(
   result.fitness = overlap.fitness;
   result.rmse_m = overlap.rmse_m;
   result.num_correspondences = overlap.num_inliers;
-  result.information = CapInformation(overlap.hessian, options);
+  result.hessian = overlap.hessian;
+  result.information = CapInformation(overlap.hessian, FloorSigma(options));
   return result;
+}
+
+Eigen::Matrix<double, 6, 1> FloorSigma(const ScanRegistrationOptions& options) {
+  const double rotation_sigma = options.min_rotation_sigma_deg * kPi / 180.0;
+  Eigen::Matrix<double, 6, 1> floor_sigma;
+  floor_sigma << rotation_sigma, rotation_sigma, rotation_sigma,
+      options.min_translation_sigma_m, options.min_translation_sigma_m,
+      options.min_translation_sigma_m;
+  return floor_sigma;
+}
+
+Eigen::Matrix<double, 6, 6> CapInformation(
+    const Eigen::Matrix<double, 6, 6>& hessian,
+    const Eigen::Matrix<double, 6, 1>& floor_sigma) {
+  // In the space scaled by the floor sigmas (unit = one floor sigma) no
+  // eigenvalue may exceed 1.
+  const Eigen::Matrix<double, 6, 6> scale = floor_sigma.asDiagonal();
+  const Eigen::Matrix<double, 6, 6> scaled = scale * hessian * scale;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(
+      0.5 * (scaled + scaled.transpose()));
+  const Eigen::Matrix<double, 6, 1> values =
+      solver.eigenvalues().cwiseMax(0.0).cwiseMin(1.0);
+  const Eigen::Matrix<double, 6, 6> capped = solver.eigenvectors() *
+                                             values.asDiagonal() *
+                                             solver.eigenvectors().transpose();
+  const Eigen::Matrix<double, 6, 6> inverse_scale =
+      floor_sigma.cwiseInverse().asDiagonal();
+  return inverse_scale * capped * inverse_scale;
 }
 
 ScanRegistrationResult RegisterScans(const LidarScan& source,

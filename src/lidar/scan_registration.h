@@ -96,11 +96,25 @@ struct ScanRegistrationResult {
   // correspondences.
   Eigen::Matrix<double, 6, 6> information =
       Eigen::Matrix<double, 6, 6>::Zero();
+  // The same before the cap: J^T J / sigma^2 (for a cap measured from the
+  // data, src/sfm/lidar_edge_noise.h).
+  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
   // Index of the initial guess the coarse stage kept.
   int guess_index = 0;
   int num_correspondences = 0;
   double voxel_size_m = 0.0;
 };
+
+// The floor sigmas of the options, [rotation (rad, 3); translation (m, 3)].
+Eigen::Matrix<double, 6, 1> FloorSigma(const ScanRegistrationOptions& options);
+
+// The information `hessian` capped at `floor_sigma` (> 0): in the space
+// scaled by them no eigenvalue exceeds 1, so no direction claims less than
+// its floor sigma while weakly constrained directions keep their small
+// information.
+Eigen::Matrix<double, 6, 6> CapInformation(
+    const Eigen::Matrix<double, 6, 6>& hessian,
+    const Eigen::Matrix<double, 6, 1>& floor_sigma);
 
 // A scan filtered, downsampled at two voxel sizes, with GICP covariances,
 // normals and search trees: prepared once, registered against many.

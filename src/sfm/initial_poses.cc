@@ -47,8 +47,7 @@ void InitializeFromLidarGraph(const LidarMapperPaths& paths,
     edge.lidar1_from_lidar2 = graph_edge.registration.target_from_source;
     edge.cam1_from_lidar = graph.cam_from_lidar.at(graph_edge.i);
     edge.cam2_from_lidar = graph.cam_from_lidar.at(graph_edge.j);
-    edge.sqrt_information =
-        SqrtInformation(graph_edge.registration.information);
+    edge.sqrt_information = SqrtInformation(graph_edge.information);
     init->lidar_edges.push_back(edge);
   }
   summary->num_lidar_edges = static_cast<int>(init->lidar_edges.size());

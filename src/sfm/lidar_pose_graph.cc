@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -56,7 +57,7 @@ bool LidarPoseGraphOptions::Check() const {
   LIDAR_POSE_GRAPH_CHECK(robust_loss_scale > 0.0, robust_loss_scale);
   LIDAR_POSE_GRAPH_CHECK(max_num_iterations >= 1, max_num_iterations);
 #undef LIDAR_POSE_GRAPH_CHECK
-  return registration.Check();
+  return edge_noise.Check() && registration.Check();
 }
 
 Eigen::Matrix<double, 6, 6> SqrtInformation(
@@ -82,9 +83,46 @@ std::string LidarPoseGraphResult::Format() const {
       << " downweighted after the solve, " << num_isolated_frames
       << " frames without an edge (at their prior); registration "
       << registration_seconds << " s, solve " << solve_seconds << " s ("
-      << solver_report << ")";
+      << solver_report << "); " << edge_noise.Format();
   return out.str();
 }
+
+namespace {
+
+std::string FormatVector(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(4);
+  out << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return out.str();
+}
+
+// The largest standard deviation of the translation that the information
+// claims (the pseudo-inverse's translation block), metres: a corridor's axis
+// shows here. Infinity when a direction has no information at all.
+double WeakestTranslationSigma(const Eigen::Matrix<double, 6, 6>& information) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(
+      0.5 * (information + information.transpose()));
+  const Eigen::Matrix<double, 6, 1>& values = solver.eigenvalues();
+  if (!(values.maxCoeff() > 0.0)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  Eigen::Matrix<double, 6, 1> inverse = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int k = 0; k < 6; ++k) {
+    if (values[k] <= 1e-12 * values.maxCoeff()) {
+      return std::numeric_limits<double>::infinity();
+    }
+    inverse[k] = 1.0 / values[k];
+  }
+  const Eigen::Matrix<double, 6, 6> covariance = solver.eigenvectors() *
+                                                 inverse.asDiagonal() *
+                                                 solver.eigenvectors().transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> translation(
+      covariance.bottomRightCorner<3, 3>());
+  return std::sqrt(translation.eigenvalues().maxCoeff());
+}
+
+}  // namespace
 
 std::string LidarPoseGraphResult::FormatEdges() const {
   std::ostringstream out;
@@ -100,6 +138,11 @@ std::string LidarPoseGraphResult::FormatEdges() const {
         << " deg, "
         << (edge.used ? (edge.downweighted ? "downweighted" : "kept")
                       : "not used")
+        << ", t " << FormatVector(edge.registration.target_from_source.translation)
+        << " m, weakest translation sigma "
+        << WeakestTranslationSigma(edge.used ? edge.information
+                                             : edge.registration.information)
+        << " m"
         << (edge.used ? ", residual " + std::to_string(edge.residual_m) +
                             " m / " + std::to_string(edge.residual_deg) +
                             " deg, whitened " +
@@ -209,6 +252,7 @@ LidarPoseGraphResult SolveLidarPoseGraph(
   // floor, estimated from the recording itself. Loop edges keep the strict
   // gate (a loop that slid along a straight street has an rmse close to the
   // floor).
+  double consecutive_noise_floor_m = 0.0;
   {
     std::vector<double> rmses;
     for (int i = 0; i + 1 < n; ++i) {
@@ -221,6 +265,7 @@ LidarPoseGraphResult SolveLidarPoseGraph(
       std::nth_element(rmses.begin(), rmses.begin() + rmses.size() / 2,
                        rmses.end());
       const double noise_floor_m = rmses[rmses.size() / 2];
+      consecutive_noise_floor_m = noise_floor_m;
       for (int i = 0; i + 1 < n; ++i) {
         LidarPoseGraphEdge& edge = result.edges[consecutive_index[i]];
         if (!edge.used && passes_gates_but_rmse(edge, /*loop=*/false) &&
@@ -232,7 +277,8 @@ LidarPoseGraphResult SolveLidarPoseGraph(
     }
   }
   // Loop candidates.
-  if (options.loop_radius_m > 0.0 && options.max_loop_candidates_per_frame > 0) {
+  if ((options.loop_radius_m > 0.0 && options.max_loop_candidates_per_frame > 0) ||
+      options.skip_one_candidates) {
     for (int i = 0; i < n; ++i) {
       std::vector<std::pair<double, int>> candidates;
       for (int j = i + 2; j < n; ++j) {
@@ -248,6 +294,13 @@ LidarPoseGraphResult SolveLidarPoseGraph(
           options.max_loop_candidates_per_frame) {
         candidates.resize(options.max_loop_candidates_per_frame);
       }
+      if (options.skip_one_candidates && i + 2 < n &&
+          std::none_of(candidates.begin(), candidates.end(),
+                       [i](const std::pair<double, int>& candidate) {
+                         return candidate.second == i + 2;
+                       })) {
+        candidates.emplace_back(0.0, i + 2);
+      }
       for (const auto& [distance, j] : candidates) {
         std::vector<Rigid3d> guesses = {prior_relative(i, j)};
         Rigid3d chained;
@@ -260,11 +313,55 @@ LidarPoseGraphResult SolveLidarPoseGraph(
         if (chain_ok) {
           guesses.push_back(chained);
         }
-        result.edges.push_back(register_edge(i, j, /*loop=*/true, guesses));
+        LidarPoseGraphEdge edge = register_edge(i, j, /*loop=*/true, guesses);
+        // A skip-one loop spans two steps of the same walk: the consecutive
+        // edges' noise-floor gate applies to it as to them.
+        if (!edge.used && j == i + 2 && passes_gates_but_rmse(edge, true) &&
+            edge.registration.rmse_m <= options.consecutive_rmse_over_median *
+                                            consecutive_noise_floor_m) {
+          edge.used = true;
+        }
+        result.edges.push_back(edge);
       }
     }
   }
   result.registration_seconds = SecondsSince(registration_start);
+
+  // ---- The edges' noise from the loop closures.
+  {
+    std::vector<LidarLoopClosure> closures;
+    for (const LidarPoseGraphEdge& edge : result.edges) {
+      if (!edge.loop || !edge.used) {
+        continue;
+      }
+      Rigid3d chained;
+      bool chain_ok = true;
+      for (int k = edge.i; k < edge.j && chain_ok; ++k) {
+        const LidarPoseGraphEdge& step = result.edges[consecutive_index[k]];
+        chain_ok = step.used;
+        chained = chained * step.registration.target_from_source;
+      }
+      if (chain_ok) {
+        LidarLoopClosure closure;
+        closure.i = edge.i;
+        closure.j = edge.j;
+        closure.delta =
+            ClosureDelta(chained, edge.registration.target_from_source);
+        closures.push_back(closure);
+      }
+    }
+    result.edge_noise = EstimateLidarEdgeNoise(
+        closures, FloorSigma(registration), options.edge_noise);
+    for (LidarPoseGraphEdge& edge : result.edges) {
+      edge.information =
+          result.edge_noise.estimated
+              ? InflateInformation(
+                    CapInformation(edge.registration.hessian,
+                                   result.edge_noise.cap_sigma),
+                    result.edge_noise.added_variance)
+              : edge.registration.information;
+    }
+  }
 
   // ---- Solve.
   const auto solve_start = std::chrono::steady_clock::now();
@@ -325,8 +422,7 @@ LidarPoseGraphResult SolveLidarPoseGraph(
     problem.AddResidualBlock(
         RelativePoseCostFunctor::Create(
             edge.registration.target_from_source, frames[edge.i].cam_from_lidar,
-            frames[edge.j].cam_from_lidar,
-            SqrtInformation(edge.registration.information)),
+            frames[edge.j].cam_from_lidar, SqrtInformation(edge.information)),
         new ceres::CauchyLoss(options.robust_loss_scale),
         poses[edge.i].rotation.coeffs().data(),
         poses[edge.i].translation.data(),
@@ -371,8 +467,7 @@ LidarPoseGraphResult SolveLidarPoseGraph(
     }
     const RelativePoseCostFunctor functor(
         edge.registration.target_from_source, frames[edge.i].cam_from_lidar,
-        frames[edge.j].cam_from_lidar,
-        SqrtInformation(edge.registration.information));
+        frames[edge.j].cam_from_lidar, SqrtInformation(edge.information));
     double residuals[6];
     functor(poses[edge.i].rotation.coeffs().data(),
             poses[edge.i].translation.data(),

@@ -9,18 +9,30 @@
 //   priors' relative pose and the previous consecutive edge's result
 //   (constant velocity), since relative prior errors reach ~1 m / 10 deg;
 // - loop candidates: j >= i + 2 with prior centres within loop_radius_m
-//   (the max_loop_candidates_per_frame nearest per frame), from the priors'
-//   relative pose and, when the consecutive edges between them all
-//   registered, from their composition.
+//   (the max_loop_candidates_per_frame nearest per frame), and j = i + 2
+//   whatever the distance when skip_one_candidates is set (its overlap
+//   decides; these short loops are what measures the edges' noise, see
+//   src/sfm/lidar_edge_noise.h), from the priors' relative pose and, when
+//   the consecutive edges between them all registered, from their
+//   composition.
 // An edge is used when its overlap reaches min_fitness (min_loop_fitness for
 // loops), its rmse stays below max_rmse_voxels, and it lies within max_prior_deviation_sigmas of the priors'
-// relative pose (a GICP that slid into a repeated structure lies farther).
+// relative pose (a GICP that slid into a repeated structure lies farther);
+// a skip-one loop (j = i + 2) passes the rmse gate as consecutive edges do.
+//
+// Edge noise: the used loops whose consecutive chain is complete measure
+// the edges' actual noise per sensor axis (src/sfm/lidar_edge_noise.h);
+// each edge's information is its registration Hessian capped at the
+// measured sigma (where it is cleaner than the registration's floor) with
+// the measured excess variance added (where it is noisier: a corridor's
+// axis). A bias common to every edge (a scale error per metre) cancels in
+// the closures and is not seen.
 //
 // Solve (Ceres, Levenberg-Marquardt): variables world_from_cam per frame
 // (quaternion manifold + translation); a unary prior factor per frame (as
 // lidar_mapper's prior terms: position sigma per axis, rotation RMS angle
 // sigma / sqrt(3) per axis); a relative-pose factor per used edge, weighted
-// by the registration's square-root information, under a Cauchy loss of
+// by the square root of that information, under a Cauchy loss of
 // scale robust_loss_scale (whitened units). After the solve an edge whose
 // whitened residual exceeds the chi-square(6) 99.9 % quantile is reported
 // as downweighted.
@@ -39,6 +51,7 @@
 #include "src/lidar/lidar_scan.h"
 #include "src/lidar/scan_registration.h"
 #include "src/optim/cost_functions.h"
+#include "src/sfm/lidar_edge_noise.h"
 
 namespace colmap_lidar {
 
@@ -53,6 +66,9 @@ struct LidarPoseGraphOptions {
   double loop_radius_m = 8.0;
   // At most this many loop candidates per frame (the nearest), >= 0.
   int max_loop_candidates_per_frame = 3;
+  // Frame i + 2 is a loop candidate of frame i also beyond loop_radius_m
+  // (on a street walked in 4-5 m steps no other frame is within 8 m), 0/1.
+  bool skip_one_candidates = true;
   // Overlap (ScanRegistrationResult::fitness) an edge needs to be used,
   // [0, 1]: consecutive edges, and loop candidates (stricter: a wrong loop
   // hurts more than a missing one).
@@ -84,6 +100,10 @@ struct LidarPoseGraphOptions {
   // whitened squared norms are chi-square(6) for correct edges, whose
   // 99 % quantile is 4.1^2.
   double robust_loss_scale = 4.0;
+  // The edges' noise measured by the loop closures (src/sfm/lidar_edge_noise.h):
+  // axes where it exceeds the registrations' floor get its variance added,
+  // axes where it is cleaner get the floor lowered to it.
+  LidarEdgeNoiseOptions edge_noise;
   // Levenberg-Marquardt iterations at most, >= 1.
   int max_num_iterations = 100;
   // Threads for the registrations' covariances / correspondences and
@@ -115,6 +135,11 @@ struct LidarPoseGraphEdge {
   double prior_deviation_deg = 0.0;
   // In the graph (fitness and prior deviation passed).
   bool used = false;
+  // The information the graph and the adjustment use: the registration's,
+  // inflated by the loop closures' measured noise (LidarEdgeNoiseEstimate),
+  // same order and frame.
+  Eigen::Matrix<double, 6, 6> information =
+      Eigen::Matrix<double, 6, 6>::Zero();
   // After the solve: the solved relative pose against the registration
   // (metres, degrees) and the whitened residual norm; used edges beyond
   // the chi-square(6) 99.9 % quantile are downweighted by the loss.
@@ -138,6 +163,7 @@ struct LidarPoseGraphResult {
   // Frames with no used edge: they stay at their prior.
   int num_isolated_frames = 0;
   double voxel_size_m = 0.0;
+  LidarEdgeNoiseEstimate edge_noise;
   double registration_seconds = 0.0;
   double solve_seconds = 0.0;
   std::string solver_report;

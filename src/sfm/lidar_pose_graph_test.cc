@@ -5,6 +5,7 @@
 #include <random>
 
 #include <ceres/gradient_checker.h>
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/logging.h"
@@ -199,6 +200,40 @@ TEST(LidarPoseGraph, RecoversRelativePosesFromNoisyPriors) {
   }
   // The priors' relative poses were far off: the test can fail.
   EXPECT_GT(max_prior_error_m, 0.3);
+  // The loops measured the edges' noise (clean synthetic scans: below the
+  // floor), and every used edge carries a finite, symmetric, positive
+  // semi-definite information.
+  EXPECT_TRUE(result.edge_noise.estimated);
+  EXPECT_GE(result.edge_noise.num_closures, 5);
+  for (const LidarPoseGraphEdge& edge : result.edges) {
+    if (!edge.used) continue;
+    EXPECT_TRUE(edge.information.allFinite());
+    EXPECT_LT((edge.information - edge.information.transpose()).norm(),
+              1e-9 * edge.information.norm());
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(
+        edge.information);
+    EXPECT_GE(solver.eigenvalues().minCoeff(),
+              -1e-9 * solver.eigenvalues().maxCoeff());
+  }
+}
+
+TEST(LidarPoseGraph, EdgeNoiseOffUsesTheRegistrationInformation) {
+  const int n = 6;
+  const std::unique_ptr<Sequence> sequence = MakeSequence(n, 7);
+  LidarPoseGraphOptions options;
+  options.num_threads = 2;
+  options.edge_noise.enabled = false;
+  const LidarPoseGraphResult result =
+      SolveLidarPoseGraph(sequence->frames, options);
+  EXPECT_FALSE(result.edge_noise.estimated);
+  for (const LidarPoseGraphEdge& edge : result.edges) {
+    EXPECT_EQ(edge.information, edge.registration.information);
+    // The registration's information is its Hessian capped at the floor.
+    EXPECT_TRUE(edge.information.isApprox(
+        CapInformation(edge.registration.hessian,
+                       FloorSigma(options.registration)),
+        1e-12));
+  }
 }
 
 TEST(LidarPoseGraph, AWrongEdgeIsNotUsedOrDownweighted) {

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# A/B of the sfm stage (lidar_mapper) on a finished benchmark matrix
+# (scripts/bench_matrix.sh): re-runs lidar_mapper with the given binary and
+# options on a copy of each run's database (features and matches as the run
+# had them: stock COLMAP's matcher is not deterministic, so this separates
+# what the build changes from what the matcher draws), evaluates the refined
+# poses against the cell's ground truth (colmap-lidar pose_evaluator, sim3
+# of the centres and axes, and without alignment against the floor the
+# priors leave, the run's matrix/gauge.txt) and prints per cell and run the
+# variant beside the run's own figures.
+#
+# Usage: bash scripts/bench_resfm.sh --work DIR --name NAME [--cells a,b]
+#          [-- lidar_mapper options...]
+#   work   the matrix's work folder (--work of bench_matrix.sh)
+#   name   the variant's folder under each run (DIR/CELL/runK/resfm/NAME)
+#   cells  default: every synthetic cell of the work folder with a finished
+#          run 1; every finished run of a cell is re-run
+# COLMAP_LIDAR_BIN selects the binary (default build/colmap-lidar).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+TOOL=bench_resfm
+HELP_LINES=2,18
+ALLOW_KITTI=0
+source scripts/matrix_variant_lib.sh
+variant_parse_args "$@"
+if [[ -z "${CELLS}" ]]; then
+  CELLS=$(cd "${WORK}" && for d in */run1/ws/pipeline/sfm.done; do
+            [[ -f "${d%%/*}/dataset/poses_gt.txt" ]] && echo "${d%%/*}"; done | paste -sd, -)
+fi
+
+evaluate() {  # evaluate MODEL GT ALIGNMENT OUT
+  "${BIN}" pose_evaluator --input_path "$1" --ground_truth_path "$2" \
+    --PoseEvaluation.alignment "$3" --output_path "$4" > /dev/null 2>&1
+}
+
+IFS=, read -r -a SELECTED <<< "${CELLS}"
+for cell in "${SELECTED[@]}"; do
+  gt="${WORK}/${cell}/dataset/poses_gt.txt"
+  [[ -f "${gt}" ]] || { log "${cell}: no ground truth; skipped"; continue; }
+  for run in "${WORK}/${cell}"/run*; do
+    [[ -f "${run}/ws/pipeline/sfm.done" ]] || continue
+    out="${run}/resfm/${NAME}"
+    rm -rf "${out}"
+    mkdir -p "${out}/ws"
+    cp "${run}/ws/database.db" "${out}/ws/database.db"
+    ln -s "${run}/ws/images" "${out}/ws/images"
+    ln -s "${run}/ws/lidar" "${out}/ws/lidar"
+    log "${cell}/$(basename "${run}"): lidar_mapper"
+    start=$(date +%s)
+    { "${BIN}" lidar_mapper --workspace_path "${out}/ws" "${EXTRA_ARGS[@]}" &&
+      evaluate "${out}/ws/sparse/refined" "${gt}" sim3_axes "${out}/poses_sim3_axes.json" &&
+      evaluate "${out}/ws/sparse/refined" "${gt}" none "${out}/poses_none.json"; } \
+      > "${out}/log" 2>&1 || { log "${cell}: failed (see ${out}/log)"; continue; }
+    log "${cell}/$(basename "${run}"): done in $(( $(date +%s) - start )) s"
+  done
+done
+/usr/bin/python3 - "${WORK}" "${NAME}" "${SELECTED[@]}" <<'PY'
+import glob, json, os, re, sys
+work, name, cells = sys.argv[1], sys.argv[2], sys.argv[3:]
+def load(path):
+    return json.load(open(path)) if os.path.exists(path) else None
+def floor(run):
+    path = os.path.join(run, "matrix", "gauge.txt")
+    if not os.path.exists(path):
+        return None
+    m = re.search(r"Oracle on .*\(6-DoF, rotation prior weight [0-9.]+ deg "
+                  r"per-axis\): mean ([0-9.]+) m", open(path).read())
+    return float(m.group(1)) if m else None
+def text(axes, none, gauge):
+    if axes is None:
+        return "-"
+    s = (f"{100 * axes['position_error_m']['mean']:.2f} cm / "
+         f"{axes['rotation_error_deg']['mean']:.3f} deg")
+    if none is not None and gauge:
+        s += f" / {none['position_error_m']['mean'] / gauge:.2f}"
+    return s
+print(f"| cell | run | {name}: position / rotation after sim3 (centres + axes) / without alignment over the floor | the run's own |")
+print("|---|---|---|---|")
+for cell in cells:
+    for run in sorted(glob.glob(os.path.join(work, cell, "run*"))):
+        out = os.path.join(run, "resfm", name)
+        if not os.path.exists(os.path.join(out, "poses_sim3_axes.json")):
+            continue
+        gauge = floor(run)
+        new = text(load(os.path.join(out, "poses_sim3_axes.json")),
+                   load(os.path.join(out, "poses_none.json")), gauge)
+        old = text(load(os.path.join(run, "ws/eval/poses_refined_sim3_axes.json")),
+                   load(os.path.join(run, "ws/eval/poses_refined_none.json")), gauge)
+        print(f"| {cell} | {os.path.basename(run)} | {new} | {old} |")
+PY
