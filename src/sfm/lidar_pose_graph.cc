@@ -84,6 +84,10 @@ std::string LidarPoseGraphResult::Format() const {
       << " frames without an edge (at their prior); registration "
       << registration_seconds << " s, solve " << solve_seconds << " s ("
       << solver_report << "); " << edge_noise.Format();
+  if (num_dropped_relaxed_loops > 0) {
+    out << "; " << num_dropped_relaxed_loops
+        << " skip-one loops dropped (closures biased with them)";
+  }
   return out.str();
 }
 
@@ -320,6 +324,7 @@ LidarPoseGraphResult SolveLidarPoseGraph(
             edge.registration.rmse_m <= options.consecutive_rmse_over_median *
                                             consecutive_noise_floor_m) {
           edge.used = true;
+          edge.relaxed_loop = true;
         }
         result.edges.push_back(edge);
       }
@@ -329,29 +334,52 @@ LidarPoseGraphResult SolveLidarPoseGraph(
 
   // ---- The edges' noise from the loop closures.
   {
-    std::vector<LidarLoopClosure> closures;
-    for (const LidarPoseGraphEdge& edge : result.edges) {
-      if (!edge.loop || !edge.used) {
-        continue;
+    const auto closures_of_used_loops = [&]() {
+      std::vector<LidarLoopClosure> closures;
+      for (const LidarPoseGraphEdge& edge : result.edges) {
+        if (!edge.loop || !edge.used) {
+          continue;
+        }
+        Rigid3d chained;
+        bool chain_ok = true;
+        for (int k = edge.i; k < edge.j && chain_ok; ++k) {
+          const LidarPoseGraphEdge& step = result.edges[consecutive_index[k]];
+          chain_ok = step.used;
+          chained = chained * step.registration.target_from_source;
+        }
+        if (chain_ok) {
+          LidarLoopClosure closure;
+          closure.i = edge.i;
+          closure.j = edge.j;
+          closure.delta =
+              ClosureDelta(chained, edge.registration.target_from_source);
+          closures.push_back(closure);
+        }
       }
-      Rigid3d chained;
-      bool chain_ok = true;
-      for (int k = edge.i; k < edge.j && chain_ok; ++k) {
-        const LidarPoseGraphEdge& step = result.edges[consecutive_index[k]];
-        chain_ok = step.used;
-        chained = chained * step.registration.target_from_source;
+      return closures;
+    };
+    result.edge_noise = EstimateLidarEdgeNoise(
+        closures_of_used_loops(), FloorSigma(registration), options.edge_noise);
+    result.edge_noise_before_drop = result.edge_noise;
+    if (result.edge_noise.biased.any()) {
+      int num_dropped = 0;
+      for (LidarPoseGraphEdge& edge : result.edges) {
+        if (edge.relaxed_loop && edge.used) {
+          edge.used = false;
+          ++num_dropped;
+        }
       }
-      if (chain_ok) {
-        LidarLoopClosure closure;
-        closure.i = edge.i;
-        closure.j = edge.j;
-        closure.delta =
-            ClosureDelta(chained, edge.registration.target_from_source);
-        closures.push_back(closure);
+      if (num_dropped > 0) {
+        LOG(WARNING) << "LIDAR pose graph: " << result.edge_noise.Format()
+                     << "; the " << num_dropped
+                     << " skip-one loops admitted by the consecutive edges' "
+                        "noise floor are dropped";
+        result.num_dropped_relaxed_loops = num_dropped;
+        result.edge_noise = EstimateLidarEdgeNoise(closures_of_used_loops(),
+                                                   FloorSigma(registration),
+                                                   options.edge_noise);
       }
     }
-    result.edge_noise = EstimateLidarEdgeNoise(
-        closures, FloorSigma(registration), options.edge_noise);
     for (LidarPoseGraphEdge& edge : result.edges) {
       edge.information =
           result.edge_noise.estimated

@@ -18,7 +18,10 @@
 // An edge is used when its overlap reaches min_fitness (min_loop_fitness for
 // loops), its rmse stays below max_rmse_voxels, and it lies within max_prior_deviation_sigmas of the priors'
 // relative pose (a GICP that slid into a repeated structure lies farther);
-// a skip-one loop (j = i + 2) passes the rmse gate as consecutive edges do.
+// a skip-one loop (j = i + 2) passes the rmse gate as consecutive edges do,
+// unless the loop closures then disagree systematically with the chains
+// (moving traffic on KITTI drags two-step registrations): such loops are
+// dropped again.
 //
 // Edge noise: the used loops whose consecutive chain is complete measure
 // the edges' actual noise per sensor axis (src/sfm/lidar_edge_noise.h);
@@ -135,6 +138,10 @@ struct LidarPoseGraphEdge {
   double prior_deviation_deg = 0.0;
   // In the graph (fitness and prior deviation passed).
   bool used = false;
+  // A skip-one loop that passed by the consecutive edges' noise-floor gate
+  // only (not max_rmse_voxels): dropped again when the loop closures show a
+  // systematic disagreement (LidarEdgeNoiseEstimate::biased).
+  bool relaxed_loop = false;
   // The information the graph and the adjustment use: the registration's,
   // inflated by the loop closures' measured noise (LidarEdgeNoiseEstimate),
   // same order and frame.
@@ -164,6 +171,11 @@ struct LidarPoseGraphResult {
   int num_isolated_frames = 0;
   double voxel_size_m = 0.0;
   LidarEdgeNoiseEstimate edge_noise;
+  // Skip-one loops taken out again because the closures were biased with
+  // them (LidarPoseGraphEdge::relaxed_loop), and the estimate that showed
+  // it (edge_noise is then re-estimated without them).
+  int num_dropped_relaxed_loops = 0;
+  LidarEdgeNoiseEstimate edge_noise_before_drop;
   double registration_seconds = 0.0;
   double solve_seconds = 0.0;
   std::string solver_report;
