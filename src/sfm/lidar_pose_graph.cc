@@ -215,8 +215,23 @@ LidarPoseGraphResult SolveLidarPoseGraph(
            edge.prior_deviation_deg <= max_deviation_deg &&
            edge.registration.num_correspondences > 6;
   };
+  // Progress at most every 20 s (a registration takes about a second;
+  // a 600-frame graph registers for minutes).
+  int num_registrations = 0;
+  auto last_progress = std::chrono::steady_clock::now();
+  const auto log_progress = [&](int frame, bool loops) {
+    ++num_registrations;
+    if (SecondsSince(last_progress) >= 20.0) {
+      last_progress = std::chrono::steady_clock::now();
+      LOG(INFO) << "LIDAR pose graph: " << num_registrations
+                << " registrations, " << (loops ? "loops" : "consecutive edges")
+                << " at frame " << frame + 1 << " of " << n << ", "
+                << SecondsSince(registration_start) << " s";
+    }
+  };
   const auto register_edge = [&](int i, int j, bool loop,
                                  const std::vector<Rigid3d>& guesses) {
+    log_progress(i, loop);
     LidarPoseGraphEdge edge;
     edge.i = i;
     edge.j = j;
