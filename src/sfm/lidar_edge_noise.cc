@@ -119,23 +119,21 @@ LidarEdgeNoiseEstimate EstimateLidarEdgeNoise(
     return estimate;
   }
   for (int k = 0; k < 6; ++k) {
+    // delta_k / sqrt(j - i + 1): a closure sums j - i consecutive edges'
+    // errors and the loop edge's own.
+    std::vector<double> signed_values;
     std::vector<double> per_edge;
+    signed_values.reserve(closures.size());
     per_edge.reserve(closures.size());
+    double sum = 0.0;
     for (const LidarLoopClosure& closure : closures) {
-      // j - i consecutive edges and the loop edge itself.
       const double num_edges = closure.j - closure.i + 1;
-      per_edge.push_back(std::abs(closure.delta[k]) / std::sqrt(num_edges));
+      signed_values.push_back(closure.delta[k] / std::sqrt(num_edges));
+      per_edge.push_back(std::abs(signed_values.back()));
+      sum += signed_values.back();
     }
     estimate.sigma[k] = kMadToSigma * Median(per_edge);
     // Bias: the signed values' mean against their spread about the median.
-    std::vector<double> signed_values;
-    signed_values.reserve(closures.size());
-    double sum = 0.0;
-    for (const LidarLoopClosure& closure : closures) {
-      signed_values.push_back(closure.delta[k] /
-                              std::sqrt(static_cast<double>(closure.j - closure.i + 1)));
-      sum += signed_values.back();
-    }
     estimate.mean[k] = sum / signed_values.size();
     const double median = Median(signed_values);
     std::vector<double> deviations;
