@@ -283,18 +283,31 @@ LidarPoseGraphResult SolveLidarPoseGraph(
     if (!rmses.empty()) {
       std::nth_element(rmses.begin(), rmses.begin() + rmses.size() / 2,
                        rmses.end());
-      const double noise_floor_m = rmses[rmses.size() / 2];
-      consecutive_noise_floor_m = noise_floor_m;
+      consecutive_noise_floor_m = rmses[rmses.size() / 2];
       for (int i = 0; i + 1 < n; ++i) {
         LidarPoseGraphEdge& edge = result.edges[consecutive_index[i]];
         if (!edge.used && passes_gates_but_rmse(edge, /*loop=*/false) &&
             edge.registration.rmse_m <=
-                options.consecutive_rmse_over_median * noise_floor_m) {
+                options.consecutive_rmse_over_median *
+                    consecutive_noise_floor_m) {
           edge.used = true;
         }
       }
     }
   }
+  // lidar_i_from_lidar_j composed of the consecutive edges i -> ... -> j;
+  // false when one of them is not used.
+  const auto chain_of_consecutive = [&](int i, int j, Rigid3d* chained) {
+    *chained = Rigid3d();
+    for (int k = i; k < j; ++k) {
+      const LidarPoseGraphEdge& step = result.edges[consecutive_index[k]];
+      if (!step.used) {
+        return false;
+      }
+      *chained = *chained * step.registration.target_from_source;
+    }
+    return true;
+  };
   // Loop candidates.
   if ((options.loop_radius_m > 0.0 && options.max_loop_candidates_per_frame > 0) ||
       options.skip_one_candidates) {
@@ -323,13 +336,7 @@ LidarPoseGraphResult SolveLidarPoseGraph(
       for (const auto& [distance, j] : candidates) {
         std::vector<Rigid3d> guesses = {prior_relative(i, j)};
         Rigid3d chained;
-        bool chain_ok = true;
-        for (int k = i; k < j && chain_ok; ++k) {
-          const LidarPoseGraphEdge& edge = result.edges[consecutive_index[k]];
-          chain_ok = edge.used;
-          chained = chained * edge.registration.target_from_source;
-        }
-        if (chain_ok) {
+        if (chain_of_consecutive(i, j, &chained)) {
           guesses.push_back(chained);
         }
         LidarPoseGraphEdge edge = register_edge(i, j, /*loop=*/true, guesses);
@@ -356,13 +363,7 @@ LidarPoseGraphResult SolveLidarPoseGraph(
           continue;
         }
         Rigid3d chained;
-        bool chain_ok = true;
-        for (int k = edge.i; k < edge.j && chain_ok; ++k) {
-          const LidarPoseGraphEdge& step = result.edges[consecutive_index[k]];
-          chain_ok = step.used;
-          chained = chained * step.registration.target_from_source;
-        }
-        if (chain_ok) {
+        if (chain_of_consecutive(edge.i, edge.j, &chained)) {
           LidarLoopClosure closure;
           closure.i = edge.i;
           closure.j = edge.j;
