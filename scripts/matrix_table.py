@@ -302,6 +302,8 @@ COLUMNS = [
            False, cm),
     Column("depth_5cm", "depth within 5 cm %",
            lambda r: depth(r, "within_5cm"), True, pct),
+    Column("depth_surface_5cm", "depth within 5 cm of the true surface %",
+           lambda r: depth(r, "surface_within_5cm"), True, pct),
     Column("depth_cov", "depth coverage %", lambda r: depth(r, "coverage"),
            True, pct),
 ]

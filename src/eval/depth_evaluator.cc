@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -60,6 +61,49 @@ float SampleTruth(const DepthMap& truth, double x, double y,
                             b * ((1 - a) * d10 + a * d11));
 }
 
+// Unit normal of the true surface at truth pixel (col, row), from the truth
+// map's back-projected neighbours (one-sided differences, each axis taking
+// the side whose depth changes least, so that a depth edge on one side does
+// not tilt it); false where a needed neighbour is invalid or both sides
+// change by more than max_relative_step (a depth edge, a silhouette).
+// rays[row * width + col] = CamFromImg of the truth pixel, z = 1.
+bool TruthNormal(const DepthMap& truth, const std::vector<Eigen::Vector3d>& rays,
+                 size_t row, size_t col, double max_relative_step,
+                 Eigen::Vector3d* normal) {
+  const size_t width = truth.GetWidth();
+  const size_t height = truth.GetHeight();
+  const double depth = truth.Get(row, col);
+  const Eigen::Vector3d center = depth * rays[row * width + col];
+  // The neighbour step along one axis: the valid side with the smaller
+  // depth change.
+  auto step = [&](bool horizontal, Eigen::Vector3d* delta) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const int sign : {1, -1}) {
+      const long r = static_cast<long>(row) + (horizontal ? 0 : sign);
+      const long c = static_cast<long>(col) + (horizontal ? sign : 0);
+      if (r < 0 || c < 0 || r >= static_cast<long>(height) ||
+          c >= static_cast<long>(width)) {
+        continue;
+      }
+      const double neighbour = truth.Get(r, c);
+      if (!(neighbour > 0)) continue;
+      const double change = std::abs(neighbour - depth);
+      if (change > max_relative_step * depth || change >= best) continue;
+      best = change;
+      *delta = sign * (neighbour * rays[r * width + c] - center);
+    }
+    return std::isfinite(best);
+  };
+  Eigen::Vector3d along_col;
+  Eigen::Vector3d along_row;
+  if (!step(true, &along_col) || !step(false, &along_row)) return false;
+  const Eigen::Vector3d cross = along_col.cross(along_row);
+  const double norm = cross.norm();
+  if (!(norm > 0)) return false;
+  *normal = cross / norm;
+  return true;
+}
+
 // "12.3 %".
 std::string Percent(double share) {
   std::ostringstream text;
@@ -76,6 +120,10 @@ Json StatsToJson(const DepthStats& stats) {
   json["coverage"] = stats.coverage;
   for (size_t i = 0; i < stats.thresholds_m.size(); ++i) {
     json[DepthThresholdKey(stats.thresholds_m[i])] = stats.within[i];
+  }
+  for (size_t i = 0; i < stats.thresholds_m.size(); ++i) {
+    json["surface_" + DepthThresholdKey(stats.thresholds_m[i])] =
+        stats.surface_within[i];
   }
   json["median_abs_error_m"] = stats.median_abs_error_m;
   json["mean_abs_error_m"] = stats.mean_abs_error_m;
@@ -95,6 +143,11 @@ bool DepthEvaluationOptions::Check() const {
   if (!(max_bilinear_spread >= 0 && std::isfinite(max_bilinear_spread))) {
     LOG(ERROR) << "DepthEvaluation.max_bilinear_spread must be >= 0, got "
                << max_bilinear_spread;
+    return false;
+  }
+  if (!(max_normal_relative_step > 0 && std::isfinite(max_normal_relative_step))) {
+    LOG(ERROR) << "DepthEvaluation.max_normal_relative_step must be > 0, got "
+               << max_normal_relative_step;
     return false;
   }
   if (map_types.empty()) {
@@ -118,6 +171,9 @@ void DepthErrors::Append(const DepthErrors& other) {
   num_without_truth += other.num_without_truth;
   abs_errors_m.insert(abs_errors_m.end(), other.abs_errors_m.begin(),
                       other.abs_errors_m.end());
+  surface_errors_m.insert(surface_errors_m.end(),
+                          other.surface_errors_m.begin(),
+                          other.surface_errors_m.end());
 }
 
 DepthStats ComputeDepthStats(const DepthErrors& errors,
@@ -136,12 +192,20 @@ DepthStats ComputeDepthStats(const DepthErrors& errors,
   const std::vector<float>& values = errors.abs_errors_m;
   if (values.empty()) return stats;
   const double count = static_cast<double>(values.size());
+  auto share_below = [count](const std::vector<float>& errors_m,
+                             double threshold) {
+    return static_cast<double>(std::count_if(
+               errors_m.begin(), errors_m.end(),
+               [&](float error) { return error < threshold; })) /
+           count;
+  };
+  stats.surface_within.assign(thresholds_m.size(), 0.0);
   for (size_t i = 0; i < thresholds_m.size(); ++i) {
-    stats.within[i] =
-        static_cast<double>(std::count_if(
-            values.begin(), values.end(),
-            [&](float error) { return error < thresholds_m[i]; })) /
-        count;
+    stats.within[i] = share_below(values, thresholds_m[i]);
+    if (errors.surface_errors_m.size() == values.size()) {
+      stats.surface_within[i] =
+          share_below(errors.surface_errors_m, thresholds_m[i]);
+    }
   }
   stats.mean_abs_error_m =
       std::accumulate(values.begin(), values.end(), 0.0) / count;
@@ -170,6 +234,18 @@ DepthErrors CompareDepthMaps(const DepthMap& estimate,
                                            << truth_camera.width << " x "
                                            << truth_camera.height);
   const bool check_fold = !IsDistortionFree(truth_camera.model_id);
+  // The truth's rays, for its normals (surface distances).
+  std::vector<Eigen::Vector3d> truth_rays(truth.GetWidth() *
+                                          truth.GetHeight());
+  for (size_t row = 0; row < truth.GetHeight(); ++row) {
+    for (size_t col = 0; col < truth.GetWidth(); ++col) {
+      truth_rays[row * truth.GetWidth() + col] =
+          truth_camera
+              .CamFromImg(Eigen::Vector2d(static_cast<double>(col),
+                                          static_cast<double>(row)))
+              .homogeneous();
+    }
+  }
   DepthErrors errors;
   errors.num_pixels = estimate.GetWidth() * estimate.GetHeight();
   for (size_t row = 0; row < estimate.GetHeight(); ++row) {
@@ -194,8 +270,19 @@ DepthErrors CompareDepthMaps(const DepthMap& estimate,
       ++errors.num_truth_valid;
       if (!has_estimate) continue;
       ++errors.num_covered;
-      errors.abs_errors_m.push_back(
-          std::abs(estimate.Get(row, col) - truth_depth));
+      const float depth_error = std::abs(estimate.Get(row, col) - truth_depth);
+      errors.abs_errors_m.push_back(depth_error);
+      // Our point and the true one lie on the same ray r (z = 1): their
+      // offset is depth_error * r, its component along the true normal
+      // depth_error * |r . n|.
+      Eigen::Vector3d normal;
+      const size_t truth_row = static_cast<size_t>(std::round(pixel.y()));
+      const size_t truth_col = static_cast<size_t>(std::round(pixel.x()));
+      errors.surface_errors_m.push_back(
+          TruthNormal(truth, truth_rays, truth_row, truth_col,
+                      options.max_normal_relative_step, &normal)
+              ? static_cast<float>(depth_error * std::abs(ray.dot(normal)))
+              : depth_error);
     }
   }
   return errors;
@@ -331,13 +418,19 @@ std::string FormatDepthEvaluation(const DepthEvaluation& evaluation) {
   std::ostringstream text;
   text << "Depth maps against the ground truth (" << evaluation.images.size()
        << " images; coverage = share of truth pixels with a depth, within = "
-          "share of covered pixels)\n";
+          "share of covered pixels; surf = within the distance of the "
+          "true surface, along its normal)\n";
   text << std::left << std::setw(14) << "type" << std::right << std::setw(10)
        << "coverage";
   for (const double threshold : evaluation.thresholds_m) {
     std::ostringstream header;
     header << "<" << std::setprecision(6) << threshold * 100.0 << "cm";
     text << std::setw(10) << header.str();
+  }
+  for (const double threshold : evaluation.thresholds_m) {
+    std::ostringstream header;
+    header << "surf<" << std::setprecision(6) << threshold * 100.0 << "cm";
+    text << std::setw(13) << header.str();
   }
   text << std::setw(12) << "median_cm" << std::setw(10) << "mean_cm"
        << std::setw(14) << "no_truth_px" << "\n";
@@ -347,6 +440,9 @@ std::string FormatDepthEvaluation(const DepthEvaluation& evaluation) {
          << std::right << std::setw(10) << Percent(stats.coverage);
     for (const double share : stats.within) {
       text << std::setw(10) << Percent(share);
+    }
+    for (const double share : stats.surface_within) {
+      text << std::setw(13) << Percent(share);
     }
     text << std::fixed << std::setprecision(2) << std::setw(12)
          << stats.median_abs_error_m * 100.0 << std::setw(10)

@@ -154,6 +154,62 @@ TEST(DepthEvaluator, OffsetsHolesAndInventedDepth) {
               2e-3);
 }
 
+// Surface distances: a depth offset along the ray is a smaller offset from
+// a plane the ray meets obliquely, by |r . n| (r with z = 1). On the plane
+// z = 4 + 1.5 x (normal (-1.5, 0, 1) / |.|), an estimate 10 cm too deep is
+// 0.1 |1 - 1.5 u| / sqrt(3.25) off the surface at ray (u, v, 1); where the
+// truth has a depth edge the distance is the depth error itself.
+TEST(DepthEvaluator, SurfaceDistanceIsTheOffsetAlongTheNormal) {
+  const Camera camera =
+      Camera::FromModelName("PINHOLE", 60, 40, {100.0, 100.0, 30.0, 20.0});
+  const DepthMap truth = RenderTruth(camera);
+  const Eigen::Matrix3d K = camera.CalibrationMatrix();
+  DepthMap estimate = RenderEstimate(K, camera.width, camera.height);
+  for (size_t row = 0; row < camera.height; ++row) {
+    for (size_t col = 0; col < camera.width; ++col) {
+      estimate.Set(row, col, estimate.Get(row, col) + 0.1f);
+    }
+  }
+  const DepthEvaluationOptions options;
+  const DepthErrors errors =
+      CompareDepthMaps(estimate, K, truth, camera, options);
+  ASSERT_EQ(errors.surface_errors_m.size(), camera.width * camera.height);
+  size_t num_within_5cm = 0;
+  for (size_t row = 0; row < camera.height; ++row) {
+    for (size_t col = 0; col < camera.width; ++col) {
+      const Eigen::Vector3d ray = MvsPixelRay(K, row, col);
+      const double expected =
+          0.1 * std::abs(1.0 - 1.5 * ray.x()) / std::sqrt(3.25);
+      const size_t i = row * camera.width + col;
+      EXPECT_NEAR(errors.abs_errors_m[i], 0.1, 1e-5);
+      EXPECT_NEAR(errors.surface_errors_m[i], expected, 1e-4)
+          << "row " << row << " col " << col;
+      num_within_5cm += expected < 0.05 ? 1 : 0;
+    }
+  }
+  const DepthStats stats = ComputeDepthStats(errors, options.thresholds_m);
+  EXPECT_DOUBLE_EQ(stats.within[1], 0.0);
+  EXPECT_GT(num_within_5cm, 0u);
+  EXPECT_NEAR(stats.surface_within[1],
+              static_cast<double>(num_within_5cm) / errors.num_covered, 1e-12);
+
+  // A depth edge (every other column 1 m nearer): no normal, the depth
+  // error itself.
+  DepthMap stripes = truth;
+  DepthMap stripes_estimate = estimate;
+  for (size_t row = 0; row < camera.height; ++row) {
+    for (size_t col = 1; col < camera.width; col += 2) {
+      stripes.Set(row, col, truth.Get(row, col) - 1.0f);
+      stripes_estimate.Set(row, col, estimate.Get(row, col) - 1.0f);
+    }
+  }
+  const DepthErrors edge_errors =
+      CompareDepthMaps(stripes_estimate, K, stripes, camera, options);
+  for (size_t i = 0; i < edge_errors.surface_errors_m.size(); ++i) {
+    EXPECT_NEAR(edge_errors.surface_errors_m[i], 0.1, 1e-5);
+  }
+}
+
 // A depth edge: the truth jumps from 2 m to 6 m between two columns; the
 // evaluator takes the nearest truth pixel there instead of blending.
 TEST(DepthEvaluator, DepthEdgesAreNotBlended) {
@@ -248,6 +304,7 @@ TEST(DepthEvaluator, FilesAndJson) {
   const Json& geometric = json.at("overall").at("geometric");
   EXPECT_EQ(geometric.at("coverage"), 1.0);
   EXPECT_EQ(geometric.at("within_5cm"), 1.0);
+  EXPECT_EQ(geometric.at("surface_within_5cm"), 1.0);
   const Json& photometric = json.at("overall").at("photometric");
   EXPECT_TRUE(photometric.at("within_2cm").is_number_float());
   EXPECT_EQ(photometric.at("within_5cm").get<double>(),

@@ -217,6 +217,12 @@ void AddDepthEvaluationOptions(DepthEvaluationOptions* evaluation,
                      "neighbours are valid and (max - min) <= this times "
                      "min (relative, >= 0), else its nearest pixel is taken "
                      "(depth edges are never blended); 0: always nearest.");
+  options->AddOption("DepthEvaluation.max_normal_relative_step",
+                     &evaluation->max_normal_relative_step,
+                     "Surface distances (surface_within_<cm>cm): the truth's "
+                     "normal is taken where a neighbour on each axis differs "
+                     "in depth by at most this share (> 0), else the depth "
+                     "error is the distance.");
   options->AddOption("DepthEvaluation.map_types", &evaluation->map_types,
                      "Depth map types to evaluate: photometric, geometric.");
   options->AddOption("DepthEvaluation.num_threads",
