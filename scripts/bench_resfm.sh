@@ -10,19 +10,34 @@
 # variant beside the run's own figures.
 #
 # Usage: bash scripts/bench_resfm.sh --work DIR --name NAME [--cells a,b]
-#          [-- lidar_mapper options...]
+#          [--rematch] [-- lidar_mapper options...]
 #   work   the matrix's work folder (--work of bench_matrix.sh)
 #   name   the variant's folder under each run (DIR/CELL/runK/resfm/NAME)
 #   cells  default: every synthetic cell of the work folder with a finished
 #          run 1; every finished run of a cell is re-run
+#   rematch  clear the copy's matches and two-view geometries first (the
+#          features stay): lidar_mapper matches again (e.g. with
+#          --LidarMapper.matcher exact)
 # COLMAP_LIDAR_BIN selects the binary (default build/colmap-lidar).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TOOL=bench_resfm
-HELP_LINES=2,18
+HELP_LINES=2,21
 ALLOW_KITTI=0
 source scripts/matrix_variant_lib.sh
-variant_parse_args "$@"
+# --rematch is ours (before --; what follows -- goes to lidar_mapper).
+REMATCH=0
+ARGS=()
+AFTER_DASHES=0
+for arg in "$@"; do
+  [[ "${arg}" == -- ]] && AFTER_DASHES=1
+  if [[ ${AFTER_DASHES} -eq 0 && "${arg}" == --rematch ]]; then
+    REMATCH=1
+  else
+    ARGS+=("${arg}")
+  fi
+done
+variant_parse_args "${ARGS[@]}"
 if [[ -z "${CELLS}" ]]; then
   CELLS=$(cd "${WORK}" && for d in */run1/ws/pipeline/sfm.done; do
             [[ -f "${d%%/*}/dataset/poses_gt.txt" ]] && echo "${d%%/*}"; done | paste -sd, -)
@@ -43,6 +58,12 @@ for cell in "${SELECTED[@]}"; do
     rm -rf "${out}"
     mkdir -p "${out}/ws"
     cp "${run}/ws/database.db" "${out}/ws/database.db"
+    if [[ ${REMATCH} -eq 1 ]]; then
+      /usr/bin/python3 -c 'import sqlite3, sys
+db = sqlite3.connect(sys.argv[1])
+db.execute("DELETE FROM matches"); db.execute("DELETE FROM two_view_geometries")
+db.commit()' "${out}/ws/database.db"
+    fi
     ln -s "${run}/ws/images" "${out}/ws/images"
     ln -s "${run}/ws/lidar" "${out}/ws/lidar"
     log "${cell}/$(basename "${run}"): lidar_mapper"

@@ -146,6 +146,10 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
   options->AddOption(s + "sequential_quadratic_overlap",
                      &o->sequential_quadratic_overlap,
                      "SequentialMatching.quadratic_overlap, 0/1.");
+  options->AddOption(s + "matcher", &o->matcher,
+                     "stock (colmap's exhaustive/sequential_matcher; not "
+                     "repeatable) or exact (the same pairs, exact matching "
+                     "and seeded verification: the same matches every run).");
   options->AddOption(s + "init_method", &o->init_method,
                      "Initial poses: mapper (stock mapper + robust sim3 to "
                      "the priors), model (init_model_path instead of the "

@@ -14,6 +14,7 @@
 #include "colmap_ext/util/resource_usage.h"
 #include "src/eval/segment_io.h"
 #include "src/lines/workspace_line_extractor.h"
+#include "src/sfm/exact_feature_matcher.h"
 #include "src/sfm/initial_poses.h"
 #include "src/sfm/lidar_edge_check.h"
 #include "src/sfm/mapper_iterations.h"
@@ -33,6 +34,7 @@ bool LidarMapperOptions::Check() const {
   LIDAR_MAPPER_CHECK(exhaustive_max_num_images >= 0,
                      exhaustive_max_num_images);
   LIDAR_MAPPER_CHECK(sequential_overlap > 0, sequential_overlap);
+  LIDAR_MAPPER_CHECK(matcher == "stock" || matcher == "exact", matcher);
   LIDAR_MAPPER_CHECK(init_method == "mapper" || init_method == "priors" ||
                          init_method == "model" ||
                          init_method == "lidar_graph",
@@ -225,7 +227,21 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
     LOG(INFO) << "lidar_mapper: every image has keypoints, feature "
                  "extraction skipped";
   }
-  RunStockMatcher(colmap, paths, options, num_images);
+  if (options.matcher == "exact") {
+    std::vector<std::pair<image_t, image_t>> pairs;
+    {
+      const Database database(paths.database_path);
+      pairs = MatchingPairs(database.ReadAllImages(),
+                            options.exhaustive_max_num_images,
+                            options.sequential_overlap,
+                            options.sequential_quadratic_overlap);
+    }
+    ExactMatchingOptions matching;
+    matching.num_threads = options.num_threads;
+    RunExactMatching(paths.database_path, pairs, matching);
+  } else {
+    RunStockMatcher(colmap, paths, options, num_images);
+  }
   summary.features_seconds = SecondsSince(stage_start);
   summary.features_cpu_seconds = ProcessCpuSeconds() - stage_cpu;
 
