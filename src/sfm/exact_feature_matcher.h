@@ -2,10 +2,10 @@
 // matches and two_view_geometries tables, in place of stock
 // exhaustive_matcher / sequential_matcher.
 //
-// Why: stock COLMAP 3.8 verifies each pair with RANSAC in worker threads
-// whose random generators are seeded from the clock (--random_seed seeds
-// only the main thread), so the same database gives other inlier sets run
-// after run, also with one thread, and the mapper then returns other models
+// Why: stock COLMAP 3.8's CPU matchers give other raw matches and other
+// inliers run after run on the same database, also with one thread
+// (measured: 6 images, two runs of exhaustive_matcher, matches and
+// two_view_geometries both differ); the mapper then returns other models
 // (issue 16: the same recording must give the same poses). Here:
 //  - matching is exact: every descriptor against every other of the pair
 //    (dot products of COLMAP's uint8 SIFT descriptors, whose L2 norm is

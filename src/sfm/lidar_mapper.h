@@ -119,8 +119,8 @@ struct LidarMapperOptions {
   // SequentialMatching.quadratic_overlap: also match i with i + 2^k, which
   // on a walk mostly adds far pairs of repeated structure.
   bool sequential_quadratic_overlap = false;
-  // "stock": colmap's exhaustive/sequential_matcher (its verification is
-  // not repeatable: clock-seeded RANSAC in its worker threads); "exact":
+  // "stock": colmap's exhaustive/sequential_matcher (its matches and
+  // inliers differ run after run, also with one thread); "exact":
   // src/sfm/exact_feature_matcher.h, the same pairs and thresholds, exact
   // descriptor matching and seeded verification: the same database gives
   // the same matches.
