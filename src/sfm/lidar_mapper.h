@@ -119,12 +119,15 @@ struct LidarMapperOptions {
   // SequentialMatching.quadratic_overlap: also match i with i + 2^k, which
   // on a walk mostly adds far pairs of repeated structure.
   bool sequential_quadratic_overlap = false;
+  // "exact": src/sfm/exact_feature_matcher.h, the stock matchers' pairs and
+  // thresholds, exact descriptor matching and seeded verification: the same
+  // database gives the same matches, hence the same poses (three runs of the
+  // corridor VLP-16 cell agree to 1e-10 mm; with stock matches they differed
+  // by up to 24 mm / 0.07 deg), and no cell's poses got worse
+  // (docs/benchmarks/matrix.md); about 1.4x the stock matcher's time.
   // "stock": colmap's exhaustive/sequential_matcher (its matches and
-  // inliers differ run after run, also with one thread); "exact":
-  // src/sfm/exact_feature_matcher.h, the same pairs and thresholds, exact
-  // descriptor matching and seeded verification: the same database gives
-  // the same matches.
-  std::string matcher = "stock";
+  // inliers differ run after run, also with one thread).
+  std::string matcher = "exact";
 
   // ---- Initial poses: "mapper", "priors", "model" or "lidar_graph" (see
   // the file comment).
