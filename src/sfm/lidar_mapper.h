@@ -124,7 +124,8 @@ struct LidarMapperOptions {
   // database gives the same matches, hence the same poses (three runs of the
   // corridor VLP-16 cell agree to 1e-10 mm; with stock matches they differed
   // by up to 24 mm / 0.07 deg), and no cell's poses got worse
-  // (docs/benchmarks/matrix.md); about 1.4x the stock matcher's time.
+  // (docs/benchmarks/matrix.md); slower than stock's (190 pairs of 1280x720
+  // images: 91 s against 66 s, both on shared cores).
   // "stock": colmap's exhaustive/sequential_matcher (its matches and
   // inliers differ run after run, also with one thread).
   std::string matcher = "exact";
