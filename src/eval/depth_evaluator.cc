@@ -221,10 +221,25 @@ DepthStats ComputeDepthStats(const DepthErrors& errors,
   return stats;
 }
 
+std::vector<Eigen::Vector3d> TruthPixelRays(const Camera& truth_camera) {
+  std::vector<Eigen::Vector3d> rays(truth_camera.width * truth_camera.height);
+  for (size_t row = 0; row < truth_camera.height; ++row) {
+    for (size_t col = 0; col < truth_camera.width; ++col) {
+      rays[row * truth_camera.width + col] =
+          truth_camera
+              .CamFromImg(Eigen::Vector2d(static_cast<double>(col),
+                                          static_cast<double>(row)))
+              .homogeneous();
+    }
+  }
+  return rays;
+}
+
 DepthErrors CompareDepthMaps(const DepthMap& estimate,
                              const Eigen::Matrix3d& K_estimate,
                              const DepthMap& truth, const Camera& truth_camera,
-                             const DepthEvaluationOptions& options) {
+                             const DepthEvaluationOptions& options,
+                             const std::vector<Eigen::Vector3d>* truth_rays) {
   truth_camera.Check();
   THROW_CHECK(truth.GetWidth() == truth_camera.width &&
                   truth.GetHeight() == truth_camera.height,
@@ -235,17 +250,15 @@ DepthErrors CompareDepthMaps(const DepthMap& estimate,
                                            << truth_camera.height);
   const bool check_fold = !IsDistortionFree(truth_camera.model_id);
   // The truth's rays, for its normals (surface distances).
-  std::vector<Eigen::Vector3d> truth_rays(truth.GetWidth() *
-                                          truth.GetHeight());
-  for (size_t row = 0; row < truth.GetHeight(); ++row) {
-    for (size_t col = 0; col < truth.GetWidth(); ++col) {
-      truth_rays[row * truth.GetWidth() + col] =
-          truth_camera
-              .CamFromImg(Eigen::Vector2d(static_cast<double>(col),
-                                          static_cast<double>(row)))
-              .homogeneous();
-    }
+  std::vector<Eigen::Vector3d> own_rays;
+  if (truth_rays == nullptr) {
+    own_rays = TruthPixelRays(truth_camera);
+    truth_rays = &own_rays;
   }
+  THROW_CHECK(truth_rays->size() == truth.GetWidth() * truth.GetHeight(),
+              truth_rays->size() << " truth rays for a map of "
+                                 << truth.GetWidth() << " x "
+                                 << truth.GetHeight());
   DepthErrors errors;
   errors.num_pixels = estimate.GetWidth() * estimate.GetHeight();
   for (size_t row = 0; row < estimate.GetHeight(); ++row) {
@@ -279,7 +292,7 @@ DepthErrors CompareDepthMaps(const DepthMap& estimate,
       const size_t truth_row = static_cast<size_t>(std::round(pixel.y()));
       const size_t truth_col = static_cast<size_t>(std::round(pixel.x()));
       errors.surface_errors_m.push_back(
-          TruthNormal(truth, truth_rays, truth_row, truth_col,
+          TruthNormal(truth, *truth_rays, truth_row, truth_col,
                       options.max_normal_relative_step, &normal)
               ? static_cast<float>(depth_error * std::abs(ray.dot(normal)))
               : depth_error);
@@ -341,6 +354,7 @@ DepthEvaluation EvaluateDepthMaps(const std::string& dense_path,
                  << " images without a ground-truth depth map; skipped";
   }
 
+  const std::vector<Eigen::Vector3d> truth_rays = TruthPixelRays(truth_camera);
   // errors[image][type].
   std::vector<std::vector<DepthErrors>> errors(
       images.size(), std::vector<DepthErrors>(types.size()));
@@ -364,7 +378,8 @@ DepthEvaluation EvaluateDepthMaps(const std::string& dense_path,
                       camera.CalibrationMatrix(), camera.width, camera.height,
                       estimate.GetWidth(), estimate.GetHeight());
                   errors[i][t] = CompareDepthMaps(estimate, K, truth,
-                                                  truth_camera, options);
+                                                  truth_camera, options,
+                                                  &truth_rays);
                 }
               });
 

@@ -103,11 +103,18 @@ DepthStats ComputeDepthStats(const DepthErrors& errors,
 // convention) with `truth` taken by `truth_camera` (its full resolution;
 // throws colmap_lidar::Error when the truth map's size differs from the
 // camera's). Invalid estimate pixels are those with depth <= 0 or not
-// finite; invalid truth pixels are those with depth <= 0.
-DepthErrors CompareDepthMaps(const DepthMap& estimate,
-                             const Eigen::Matrix3d& K_estimate,
-                             const DepthMap& truth, const Camera& truth_camera,
-                             const DepthEvaluationOptions& options);
+// finite; invalid truth pixels are those with depth <= 0. `truth_rays`
+// (optional) is TruthPixelRays(truth_camera), computed once for many maps
+// of one camera; null: computed here.
+DepthErrors CompareDepthMaps(
+    const DepthMap& estimate, const Eigen::Matrix3d& K_estimate,
+    const DepthMap& truth, const Camera& truth_camera,
+    const DepthEvaluationOptions& options,
+    const std::vector<Eigen::Vector3d>* truth_rays = nullptr);
+
+// CamFromImg of every pixel (col, row) of the camera, z = 1, row-major: the
+// rays of the truth maps, for their normals.
+std::vector<Eigen::Vector3d> TruthPixelRays(const Camera& truth_camera);
 
 struct DepthImageEvaluation {
   std::string image_name;

@@ -29,10 +29,6 @@ float DotToDistance(float dot) {
   return std::acos(std::min(dot / kDescriptorNormSquared, 1.0f));
 }
 
-Eigen::MatrixXf ToFloat(const FeatureDescriptorsBlob& descriptors) {
-  return descriptors.cast<float>();
-}
-
 struct ImageFeatures {
   DatabaseImage image;
   Camera camera;
@@ -55,7 +51,7 @@ TwoViewGeometry Verify(const ImageFeatures& features1,
   geometry.config = TwoViewGeometryConfig::kDegenerate;
   *verified = false;
   const int num_matches = static_cast<int>(matches.rows());
-  if (num_matches < std::max(options.min_num_inliers, 5)) return geometry;
+  if (num_matches < options.min_num_inliers) return geometry;
   std::vector<cv::Point2d> points1(num_matches);
   std::vector<cv::Point2d> points2(num_matches);
   for (int i = 0; i < num_matches; ++i) {
@@ -132,8 +128,8 @@ FeatureMatchesBlob MatchDescriptors(const FeatureDescriptorsBlob& descriptors1,
   THROW_CHECK(descriptors1.cols() == descriptors2.cols(),
               "descriptors of " << descriptors1.cols() << " and "
                                 << descriptors2.cols() << " dimensions");
-  const Eigen::MatrixXf d1 = ToFloat(descriptors1);
-  const Eigen::MatrixXf d2_t = ToFloat(descriptors2).transpose();
+  const Eigen::MatrixXf d1 = descriptors1.cast<float>();
+  const Eigen::MatrixXf d2_t = descriptors2.cast<float>().transpose();
   // Integer dot products below 2^24 are exact in float whatever the order
   // of the sums: the results do not depend on the BLAS kernel.
   std::vector<int> best2(n1, -1);
