@@ -16,7 +16,8 @@
 #     the workspace with --AutomaticReconstruction.mesh_with_lines 0);
 #   - wall / CPU time and peak memory per stage (pipeline/stages.json);
 # and writes the table with the worst cell of every column
-# (scripts/matrix_table.py -> docs/benchmarks/matrix.md).
+# (scripts/matrix_table.py -> <work>/matrix.md; docs/benchmarks/matrix.md is
+# the curated page its tables are copied into, never overwritten).
 #
 # Cells are reusable: a cell's dataset and each finished run are kept under
 # the work folder, and a re-run only does what is missing. Every figure of a
@@ -253,6 +254,6 @@ log "matrix: $(( $(now) - TOTAL_START )) s in all"
 
 TABLE_ARGS=(--work "${WORK}" --cells_file "${CELLS_FILE}")
 if [[ ${WRITE} -eq 1 ]]; then
-  TABLE_ARGS+=(--output docs/benchmarks/matrix.md)
+  TABLE_ARGS+=(--output "${WORK}/matrix.md")
 fi
 "${PY}" scripts/matrix_table.py "${TABLE_ARGS[@]}"

@@ -36,6 +36,24 @@ void AddLidarFusionOptions(LidarFusionOptions* o, OptionManager* options) {
   options->AddOption(s + "max_num_visible_images",
                      &o->max_num_visible_images,
                      "Frames listed per voxel in lidar_fused.ply.vis, >= 1.");
+  options->AddOption(s + "free_space_filter", &o->free_space.enabled,
+                     "Drop voxels that other scans see through (moving "
+                     "objects: their rays return from beyond the voxel), "
+                     "0/1.");
+  options->AddOption(s + "free_space_neighborhood_ring_gaps",
+                     &o->free_space.neighborhood_ring_gaps,
+                     "Free-space test: the nearest return within this many "
+                     "ring spacings (measured per scan) of the voxel's "
+                     "direction counts, > 0.");
+  options->AddOption(s + "free_space_margin_voxels",
+                     &o->free_space.margin_voxels,
+                     "Free-space test: that return must lie this many voxel "
+                     "edges beyond the voxel, > 0.");
+  options->AddOption(s + "free_space_min_see_through_frames",
+                     &o->free_space.min_see_through_frames,
+                     "Free-space test: a voxel is dropped when at least this "
+                     "many scans see through it and they outnumber the scans "
+                     "that hit it, >= 1.");
   options->AddCheck([o] { return o->Check(); });
 }
 

@@ -167,6 +167,15 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "init_method lidar_graph: frame i + 2 is a loop "
                      "candidate of frame i however far apart their priors "
                      "are (its overlap decides), 0/1.");
+  options->AddOption(s + "lidar_graph_loop_radius_m",
+                     &o->lidar_graph.loop_radius_m,
+                     "init_method lidar_graph: frames at least 2 apart whose "
+                     "prior centres lie within this distance are loop "
+                     "candidates, metres, >= 0 (0: none).");
+  options->AddOption(s + "lidar_graph_max_loop_candidates_per_frame",
+                     &o->lidar_graph.max_loop_candidates_per_frame,
+                     "init_method lidar_graph: at most this many loop "
+                     "candidates per frame (the nearest), >= 0.");
   options->AddOption(s + "init_model_path", &o->init_model_path,
                      "Sparse model for init_method model.");
   options->AddOption(s + "init_min_num_inliers", &o->init_min_num_inliers,

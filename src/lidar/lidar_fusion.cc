@@ -49,6 +49,48 @@ struct VoxelAccumulator {
   std::vector<std::pair<uint32_t, uint32_t>> frames;
 };
 
+// `keys` without the voxels that other scans see through (moving objects,
+// src/lidar/free_space_filter.h); the order is kept.
+std::vector<uint64_t> DropMovingVoxels(
+    const std::vector<uint64_t>& keys,
+    const std::unordered_map<uint64_t, VoxelAccumulator>& voxels,
+    const std::vector<LidarFusionInput>& inputs,
+    const LidarFusionOptions& options) {
+  if (!options.free_space.enabled || inputs.size() < 2) {
+    return keys;
+  }
+  // A voxel's frames are image indices; the filter wants input indices (a
+  // frame given twice is two scans with one index).
+  std::unordered_map<uint32_t, std::vector<uint32_t>> inputs_of_image;
+  std::vector<FreeSpaceScan> scans(inputs.size());
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    inputs_of_image[inputs[i].image_idx].push_back(static_cast<uint32_t>(i));
+    scans[i].scan = inputs[i].scan;
+    scans[i].world_from_lidar = inputs[i].world_from_lidar;
+  }
+  std::vector<Eigen::Vector3d> centroids(keys.size());
+  std::vector<std::vector<uint32_t>> hit_frames(keys.size());
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const VoxelAccumulator& voxel = voxels.at(keys[i]);
+    centroids[i] = voxel.sum / voxel.count;
+    for (const auto& frame : voxel.frames) {
+      const std::vector<uint32_t>& indices = inputs_of_image.at(frame.first);
+      hit_frames[i].insert(hit_frames[i].end(), indices.begin(), indices.end());
+    }
+  }
+  const std::vector<bool> moving = FindMovingVoxels(
+      centroids, hit_frames, scans, options.voxel_size_m, options.min_range_m,
+      options.max_range_m, options.free_space);
+  std::vector<uint64_t> kept;
+  kept.reserve(keys.size());
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (!moving[i]) {
+      kept.push_back(keys[i]);
+    }
+  }
+  return kept;
+}
+
 }  // namespace
 
 bool LidarFusionOptions::Check() const {
@@ -77,7 +119,7 @@ bool LidarFusionOptions::Check() const {
     LOG(ERROR) << "LidarFusion.max_num_visible_images must be >= 1";
     return false;
   }
-  return true;
+  return free_space.Check();
 }
 
 FusedLidarCloud FuseLidarScans(const std::vector<LidarFusionInput>& inputs,
@@ -122,6 +164,7 @@ FusedLidarCloud FuseLidarScans(const std::vector<LidarFusionInput>& inputs,
     }
   }
   std::sort(keys.begin(), keys.end());
+  keys = DropMovingVoxels(keys, voxels, inputs, options);
 
   FusedLidarCloud cloud;
   cloud.points.resize(keys.size());

@@ -35,6 +35,7 @@
 
 #include "colmap_ext/mvs/fused_vis.h"
 #include "colmap_ext/scene/rigid3.h"
+#include "src/lidar/free_space_filter.h"
 #include "src/lidar/lidar_scan.h"
 
 namespace colmap_lidar {
@@ -54,6 +55,9 @@ struct LidarFusionOptions {
   int normal_min_neighbors = 5;
   // Frames kept per voxel in the .vis file (most points first), >= 1.
   int max_num_visible_images = 16;
+  // Voxels that other scans see through (moving objects) are dropped, see
+  // src/lidar/free_space_filter.h.
+  FreeSpaceFilterOptions free_space;
 
   bool Check() const;
 };
