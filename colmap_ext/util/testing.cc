@@ -3,7 +3,10 @@
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
 #include <sstream>
+
+#include <gtest/gtest.h>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,6 +21,28 @@ namespace {
 std::string EnvOr(const char* name, const std::string& fallback) {
   const char* value = std::getenv(name);
   return (value != nullptr && value[0] != '\0') ? value : fallback;
+}
+
+// The folders CreateTestDir made in this process, removed at its exit
+// (RemoveTestDirs): the pipeline tests leave 0.4 GB each, and a developer's
+// disk filled up with thousands of them. Kept when a test failed (to look
+// at) or COLMAP_LIDAR_KEEP_TEST_DIRS is set. Forked children leave with
+// _exit and run no exit handler; the pid check guards against one that would.
+std::mutex test_dirs_mutex;
+std::vector<std::string>* test_dirs = new std::vector<std::string>();
+pid_t test_dirs_owner = 0;
+
+void RemoveTestDirs() {
+  if (::getpid() != test_dirs_owner ||
+      std::getenv("COLMAP_LIDAR_KEEP_TEST_DIRS") != nullptr ||
+      ::testing::UnitTest::GetInstance()->Failed()) {
+    return;
+  }
+  std::lock_guard<std::mutex> lock(test_dirs_mutex);
+  for (const std::string& path : *test_dirs) {
+    std::error_code error;
+    std::filesystem::remove_all(path, error);
+  }
 }
 
 }  // namespace
@@ -44,6 +69,13 @@ std::string CreateTestDir() {
       (std::filesystem::temp_directory_path() / name.str()).string();
   std::filesystem::remove_all(path);
   CreateDirIfNotExists(path);
+  std::lock_guard<std::mutex> lock(test_dirs_mutex);
+  if (test_dirs_owner != ::getpid()) {
+    test_dirs_owner = ::getpid();
+    test_dirs->clear();
+    std::atexit(RemoveTestDirs);
+  }
+  test_dirs->push_back(path);
   return path;
 }
 

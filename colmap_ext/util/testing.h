@@ -19,7 +19,9 @@ std::string KittiSampleDir();
 std::string SourceDir();
 // The build tree, where build/colmap-lidar lives.
 std::string BinaryDir();
-// A new empty folder under the system temp dir, unique per call.
+// A new empty folder under the system temp dir, unique per call; removed
+// when the process exits, unless a test failed or the environment has
+// COLMAP_LIDAR_KEEP_TEST_DIRS.
 std::string CreateTestDir();
 // Runs a shell command line and returns its exit code; stdout and stderr go
 // to `log_path` when not empty.

@@ -3,7 +3,9 @@
 // single point cloud S_fused and downsample it using a voxel grid ... we keep
 // track of the number of LIDAR points that have been clustered in the same
 // voxel", after Li et al.). The count is the visibility weight of the voxel
-// for the depth-map initialisation and the Delaunay mesher.
+// for the depth-map initialisation and the Delaunay mesher. Voxels that other
+// scans see through (moving objects) are dropped before the normals and the
+// files (free_space.enabled; src/lidar/free_space_filter.h).
 //
 // Files written by `colmap-lidar lidar_fuser` into the dense workspace
 // (readers: src/mvs for the depth initialisation, the Delaunay mesher):
