@@ -8,6 +8,7 @@
 
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
+#include "src/lidar/ring_estimation.h"
 
 namespace colmap_lidar {
 namespace {
@@ -29,10 +30,6 @@ constexpr int kVoxelsPerChunk = 4096;
 double AzimuthDeg(const Eigen::Vector3d& p) {
   const double a = std::atan2(p.y(), p.x()) * kRadToDeg;
   return a < 0 ? a + 360.0 : a;
-}
-
-double ElevationDegOf(const Eigen::Vector3d& p) {
-  return std::atan2(p.z(), std::hypot(p.x(), p.y())) * kRadToDeg;
 }
 
 }  // namespace
@@ -63,7 +60,7 @@ double EstimateRingGapDeg(const LidarScan& scan) {
     }
     const int column = std::min(
         num_columns - 1, static_cast<int>(AzimuthDeg(p) / kGapColumnDeg));
-    columns[column].push_back(static_cast<float>(ElevationDegOf(p)));
+    columns[column].push_back(static_cast<float>(ElevationDeg(point)));
   }
   std::vector<float> gaps;
   for (std::vector<float>& column : columns) {
@@ -97,7 +94,7 @@ SphericalRangeImage::SphericalRangeImage(const LidarScan& scan,
     if (range < min_range_m || range > max_range_m || range == 0) {
       continue;
     }
-    const double elevation = ElevationDegOf(point.cast<double>());
+    const double elevation = ElevationDeg(point);
     min_elevation = std::min(min_elevation, elevation);
     max_elevation = std::max(max_elevation, elevation);
   }
@@ -117,7 +114,7 @@ SphericalRangeImage::SphericalRangeImage(const LidarScan& scan,
     }
     const int row = std::min(
         num_rows_ - 1,
-        static_cast<int>((ElevationDegOf(p) - min_elevation_deg_) / cell_deg));
+        static_cast<int>((ElevationDeg(point) - min_elevation_deg_) / cell_deg));
     const int col =
         std::min(num_cols_ - 1, static_cast<int>(AzimuthDeg(p) / cell_deg));
     float& cell = raw[static_cast<size_t>(row) * num_cols_ + col];
@@ -158,7 +155,7 @@ double SphericalRangeImage::NearestRangeAround(
     return -1.0;
   }
   const double row_position =
-      (ElevationDegOf(point_in_lidar) - min_elevation_deg_) / cell_deg_;
+      (ElevationDeg(point_in_lidar.cast<float>()) - min_elevation_deg_) / cell_deg_;
   if (row_position < 0 || row_position >= num_rows_) {
     return -1.0;  // Above the highest or below the lowest ring.
   }
