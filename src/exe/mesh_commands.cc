@@ -103,6 +103,11 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      &meshing->behind_distance_factor,
                      "The inside weight goes to the cell this many sigma "
                      "behind the point, > 0.");
+  options->AddOption("DelaunayMeshing.max_free_space_length_factor",
+                     &meshing->max_free_space_length_factor,
+                     "Free space is carved at most this many sigma in front "
+                     "of a point (long rays make the graph cut slow); 0 "
+                     "carves whole rays. >= 0.");
   options->AddOption("DelaunayMeshing.quality_regularization",
                      &meshing->quality_regularization,
                      "Weight of the surface-quality term per facet "

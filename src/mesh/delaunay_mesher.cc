@@ -141,6 +141,7 @@ VisibilityIntegrationOptions DelaunayMeshingOptions::VisibilityOptions()
   VisibilityIntegrationOptions options;
   options.distance_sigma_factor = distance_sigma_factor;
   options.behind_distance_factor = behind_distance_factor;
+  options.max_free_space_length_factor = max_free_space_length_factor;
   options.num_threads = num_threads;
   return options;
 }

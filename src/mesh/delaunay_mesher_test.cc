@@ -78,14 +78,20 @@ DelaunayMeshingOptions TestOptions() {
   return options;
 }
 
-TEST(DelaunayMesher, BoxOnGroundIsAccurateClosedAndComplete) {
+// Free space carved along whole rays and with a short length cap (the cameras
+// are 2-3 m from the box; 5 sigma is about 0.2 m): both give the box.
+class BoxOnGround : public ::testing::TestWithParam<double> {};
+
+TEST_P(BoxOnGround, IsAccurateClosedAndComplete) {
   SyntheticBoxSceneOptions scene_options;
   scene_options.noise_m = 0.001;
   const SyntheticBoxScene scene(scene_options);
   const SyntheticPoints points = scene.SampleVisualPoints();
   const MeshingInput input = MakeVisualMeshingInput(scene, points);
+  DelaunayMeshingOptions options = TestOptions();
+  options.max_free_space_length_factor = GetParam();
   DelaunayMeshingSummary summary;
-  const TriangleMesh mesh = DelaunayMeshing(TestOptions(), input, &summary);
+  const TriangleMesh mesh = DelaunayMeshing(options, input, &summary);
   ASSERT_GT(mesh.faces.size(), 1000u);
   EXPECT_EQ(summary.num_failed_walks, 0u);
   const std::vector<double> distances = FaceDistancesToSurface(scene, mesh);
@@ -137,10 +143,13 @@ TEST(DelaunayMesher, BoxOnGroundIsAccurateClosedAndComplete) {
     ASSERT_LT(face[0], face[2]);
   }
   // A second run (2 threads, as the first).
-  const TriangleMesh again = DelaunayMeshing(TestOptions(), input);
+  const TriangleMesh again = DelaunayMeshing(options, input);
   EXPECT_EQ(again.faces, mesh.faces);
   EXPECT_EQ(again.vertices, mesh.vertices);
 }
+
+INSTANTIATE_TEST_SUITE_P(FreeSpaceLength, BoxOnGround,
+                         ::testing::Values(0.0, 5.0));
 
 TEST(DelaunayMesher, FreeSpaceCarvingRemovesOutliers) {
   SyntheticBoxSceneOptions scene_options;

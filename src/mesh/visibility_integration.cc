@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 #include <thread>
 
 #include <Eigen/Geometry>
@@ -217,6 +219,12 @@ bool VisibilityIntegrationOptions::Check() const {
     LOG(ERROR) << "DelaunayMeshing.behind_distance_factor must be > 0";
     return false;
   }
+  if (!(max_free_space_length_factor >= 0) ||
+      !std::isfinite(max_free_space_length_factor)) {
+    LOG(ERROR) << "DelaunayMeshing.max_free_space_length_factor must be "
+                  "finite and >= 0";
+    return false;
+  }
   return true;
 }
 
@@ -315,6 +323,10 @@ CellGraphWeights IntegrateVisibility(
                                     1e-9);
   const double behind_distance =
       options.behind_distance_factor * weights.distance_sigma;
+  const double max_free_space_length =
+      options.max_free_space_length_factor > 0
+          ? options.max_free_space_length_factor * weights.distance_sigma
+          : std::numeric_limits<double>::infinity();
 
   AtomicArray source(num_cells);
   AtomicArray sink(num_cells);
@@ -342,9 +354,15 @@ CellGraphWeights IntegrateVisibility(
           const Eigen::Vector3d direction = position - sensor_position;
           const double length = direction.norm();
           if (length == 0) continue;
-          // Free space from the point to the sensor.
+          // Free space from the point to the sensor, or to the length cap.
+          const Eigen::Vector3d free_space_end =
+              length > max_free_space_length
+                  ? Eigen::Vector3d(position - direction *
+                                                   (max_free_space_length /
+                                                    length))
+                  : sensor_position;
           const MeshCellHandle sensor_cell = walker.Walk(
-              vertex, ToCgal(sensor_position), /*stay_finite=*/false,
+              vertex, ToCgal(free_space_end), /*stay_finite=*/false,
               [&](const MeshCellHandle& cell, int k, double distance) {
                 facet_in.Add(4 * static_cast<size_t>(cell->info()) + k,
                              alpha * walker.DistanceProb(distance));
@@ -386,7 +404,12 @@ CellGraphWeights IntegrateVisibility(
   weights.num_failed_walks = num_failed;
   LOG(INFO) << "Visibility: " << weights.num_rays << " rays (of "
             << input.NumRays() << " observations), sigma "
-            << weights.distance_sigma << " m, " << weights.num_failed_walks
+            << weights.distance_sigma << " m, free space carved "
+            << (std::isfinite(max_free_space_length)
+                    ? "up to " + std::to_string(max_free_space_length) +
+                          " m in front of the points"
+                    : std::string("along whole rays"))
+            << ", " << weights.num_failed_walks
             << " failed walks";
   if (weights.num_failed_walks > 0) {
     LOG(WARNING) << weights.num_failed_walks

@@ -10,7 +10,8 @@
 //   into the cell nearer the point (d = distance of the crossing from the
 //   point, so the facets right at the point stay cheap to cut);
 // - the cell that contains the sensor (or the first cell outside the convex
-//   hull) gets source ("outside") weight alpha;
+//   hull) gets source ("outside") weight alpha; with a length cap, the walk
+//   stops that far in front of the point and its cell gets the weight;
 // - the cell behind_distance_factor * sigma behind the point, on the
 //   prolonged ray, gets sink ("inside") weight alpha (the last finite cell
 //   if the prolonged ray leaves the convex hull on the way; the infinite
@@ -39,6 +40,17 @@ struct VisibilityIntegrationOptions {
   double distance_sigma_factor = 1.0;
   // Where the inside weight goes behind the point, in units of sigma (> 0).
   double behind_distance_factor = 0.25;
+  // Free space is carved at most this many sigma in front of the point;
+  // the outside weight goes to the cell where the carving stops (or that
+  // holds the sensor, on a shorter ray). 0 carves the whole ray. Long rays
+  // make the walks and the max-flow slow: every unit of flow runs from a
+  // sensor's cell to the surface, and a 60 m LIDAR ray crosses thousands of
+  // cells (KITTI). Beyond the cap nothing is carved, and such space has no
+  // evidence either way; the cut keeps it outside unless inside cells
+  // enclose it. 100 sigma is 4-7 m on the benchmark scenes (sigma 4-6.5
+  // cm); measured in docs/benchmarks/matrix.md ("Free-space length cap").
+  // >= 0.
+  double max_free_space_length_factor = 100.0;
   // Worker threads; <= 0 uses all cores.
   int num_threads = -1;
 

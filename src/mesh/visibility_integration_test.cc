@@ -9,19 +9,35 @@
 namespace colmap_lidar {
 namespace {
 
-TEST(VisibilityIntegration, CameraCellsOutsideBoxCellsInside) {
-  SyntheticBoxSceneOptions scene_options;
-  scene_options.box_spacing_m = 0.04;
-  scene_options.ground_spacing_m = 0.1;
-  scene_options.noise_m = 0.001;
-  const SyntheticBoxScene scene(scene_options);
-  const MeshingInput input =
-      MakeVisualMeshingInput(scene, scene.SampleVisualPoints());
+// The box on the ground, sparsely sampled, seen by the ring of cameras.
+SyntheticBoxSceneOptions SparseBoxOptions() {
+  SyntheticBoxSceneOptions options;
+  options.box_spacing_m = 0.04;
+  options.ground_spacing_m = 0.1;
+  options.noise_m = 0.001;
+  return options;
+}
+
+class VisibilityIntegrationTest : public ::testing::Test {
+ protected:
+  VisibilityIntegrationTest()
+      : scene_options(SparseBoxOptions()),
+        scene(scene_options),
+        input(MakeVisualMeshingInput(scene, scene.SampleVisualPoints())) {
+    BuildMeshingTriangulation(DelaunayTriangulationOptions(), input,
+                              &triangulation);
+  }
+
+  const SyntheticBoxSceneOptions scene_options;
+  const SyntheticBoxScene scene;
+  const MeshingInput input;
   MeshingTriangulation triangulation;
-  BuildMeshingTriangulation(DelaunayTriangulationOptions(), input,
-                            &triangulation);
+};
+
+TEST_F(VisibilityIntegrationTest, CameraCellsOutsideBoxCellsInside) {
   VisibilityIntegrationOptions options;
   options.num_threads = 2;
+  options.max_free_space_length_factor = 0;  // Whole rays.
   const CellGraphWeights weights =
       IntegrateVisibility(options, input, triangulation);
   EXPECT_EQ(weights.num_failed_walks, 0u);
@@ -60,6 +76,50 @@ TEST(VisibilityIntegration, CameraCellsOutsideBoxCellsInside) {
   EXPECT_GT(inside_sink, 0.0);
   options.distance_sigma_factor = 0;
   EXPECT_FALSE(options.Check());
+  options.distance_sigma_factor = 1;
+  options.max_free_space_length_factor = -1;
+  EXPECT_FALSE(options.Check());
+}
+
+// With a length cap, the outside weight of a ray lands where the carving
+// stops in front of the point instead of where the ray reaches the sensor
+// (3 m from the box, far beyond the cap); the totals are unchanged and less
+// free space is carved.
+TEST_F(VisibilityIntegrationTest, LengthCapMovesOutsideWeightNearTheSurface) {
+  VisibilityIntegrationOptions options;
+  options.num_threads = 2;
+  options.max_free_space_length_factor = 0;
+  const CellGraphWeights whole = IntegrateVisibility(options, input,
+                                                     triangulation);
+  options.max_free_space_length_factor = 5;
+  const CellGraphWeights capped = IntegrateVisibility(options, input,
+                                                      triangulation);
+  EXPECT_EQ(capped.num_failed_walks, 0u);
+  const double cap_m = 5 * capped.distance_sigma;
+  ASSERT_LT(cap_m, 1.0);  // The cameras are >= 2 m from every point.
+
+  // The cameras are above the convex hull of the box and the ground: whole
+  // rays put all outside weight into infinite cells, capped rays from the
+  // ground near the box stop inside the hull.
+  auto finite_source = [&](const CellGraphWeights& weights) {
+    double sum = 0;
+    for (const MeshCellHandle& cell : triangulation.cells) {
+      if (!triangulation.delaunay.is_infinite(cell)) {
+        sum += weights.source[cell->info()];
+      }
+    }
+    return sum;
+  };
+  EXPECT_EQ(finite_source(whole), 0.0);
+  EXPECT_GT(finite_source(capped), 0.0);
+
+  auto total = [](const std::vector<float>& values) {
+    return std::accumulate(values.begin(), values.end(), 0.0);
+  };
+  EXPECT_NEAR(total(capped.source), total(whole.source),
+              1e-4 * total(whole.source));
+  EXPECT_NEAR(total(capped.sink), total(whole.sink), 1e-4 * total(whole.sink));
+  EXPECT_LT(total(capped.facet_in), total(whole.facet_in));
 }
 
 }  // namespace
