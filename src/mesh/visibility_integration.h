@@ -42,10 +42,11 @@ struct VisibilityIntegrationOptions {
   double behind_distance_factor = 0.25;
   // Free space is carved at most this many sigma in front of the point;
   // the outside weight goes to the cell where the carving stops (or that
-  // holds the sensor, on a shorter ray). 0 carves the whole ray. Long rays
-  // make the walks and the max-flow slow: every unit of flow runs from a
-  // sensor's cell to the surface, and a 60 m LIDAR ray crosses thousands of
-  // cells (KITTI). Beyond the cap nothing is carved, and such space has no
+  // holds the sensor, on a shorter ray). 0 carves the whole ray. Whole rays
+  // make the walks and the max-flow slow: every unit of flow then starts in
+  // the few cells that hold the sensors (20 on KITTI, where the car barely
+  // moves; one holds 19 % of the weight) and runs down a ray to the
+  // surface. Beyond the cap nothing is carved, and such space has no
   // evidence either way; the cut keeps it outside unless inside cells
   // enclose it. 100 sigma is 4-7 m on the benchmark scenes (sigma 4-6.5
   // cm); measured in docs/benchmarks/matrix.md ("Free-space length cap").
