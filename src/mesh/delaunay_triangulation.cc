@@ -1,5 +1,6 @@
 #include "src/mesh/delaunay_triangulation.h"
 
+#include <algorithm>
 #include <numeric>
 
 #include <CGAL/Spatial_sort_traits_adapter_3.h>
@@ -171,12 +172,33 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
                      << " meshing points span no volume (dimension "
                      << delaunay.dimension() << ")");
 
-  triangulation->cells.clear();
-  triangulation->cells.reserve(delaunay.number_of_cells());
+  // Cells numbered by their first vertex (a counting sort, stable in
+  // CGAL's order): the vertices are in spatial order within each group, and
+  // so are the cells then, which keeps the per-cell arrays and the graph
+  // cut's nodes of neighbouring cells near each other in memory (CGAL's own
+  // order follows the insertions' history; the max-flow is memory-bound).
+  const size_t num_vertices = triangulation->vertices.size();
+  std::vector<size_t> key_begin(num_vertices + 2, 0);
+  auto cell_key = [&](const MeshCellHandle& cell) {
+    uint32_t key = static_cast<uint32_t>(num_vertices);
+    for (int k = 0; k < 4; ++k) {
+      if (!delaunay.is_infinite(cell->vertex(k))) {
+        key = std::min(key, cell->vertex(k)->info());
+      }
+    }
+    return key;
+  };
   for (auto it = delaunay.all_cells_begin(); it != delaunay.all_cells_end();
        ++it) {
-    it->info() = static_cast<uint32_t>(triangulation->cells.size());
-    triangulation->cells.push_back(it);
+    ++key_begin[cell_key(it) + 1];
+  }
+  std::partial_sum(key_begin.begin(), key_begin.end(), key_begin.begin());
+  triangulation->cells.assign(delaunay.number_of_cells(), MeshCellHandle());
+  for (auto it = delaunay.all_cells_begin(); it != delaunay.all_cells_end();
+       ++it) {
+    const size_t index = key_begin[cell_key(it)]++;
+    it->info() = static_cast<uint32_t>(index);
+    triangulation->cells[index] = it;
   }
   LOG(INFO) << "Delaunay triangulation: " << triangulation->NumVertices()
             << " vertices from " << input.NumPoints() << " points ("

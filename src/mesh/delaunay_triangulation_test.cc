@@ -1,5 +1,8 @@
 #include "src/mesh/delaunay_triangulation.h"
 
+#include <algorithm>
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/logging.h"
@@ -23,10 +26,23 @@ TEST(DelaunayTriangulation, IndicesAndMergingByPixelDistance) {
   for (size_t i = 0; i < all.NumVertices(); ++i) {
     ASSERT_EQ(all.vertices[i]->info(), i);
   }
+  // Cells numbered by their first (smallest) finite vertex, each once.
+  uint32_t previous_first = 0;
+  std::set<MeshCellHandle> distinct;
   for (size_t i = 0; i < all.NumCells(); ++i) {
     ASSERT_EQ(all.cells[i]->info(), i);
+    uint32_t first = UINT32_MAX;
+    for (int k = 0; k < 4; ++k) {
+      if (!all.delaunay.is_infinite(all.cells[i]->vertex(k))) {
+        first = std::min(first, all.cells[i]->vertex(k)->info());
+      }
+    }
+    EXPECT_GE(first, previous_first);
+    previous_first = first;
+    distinct.insert(all.cells[i]);
   }
   EXPECT_EQ(all.NumCells(), all.delaunay.number_of_cells());
+  EXPECT_EQ(distinct.size(), all.NumCells());
 
   options.max_proj_dist_px = 5;
   MeshingTriangulation merged;

@@ -20,9 +20,14 @@
 // Rays from several input points merged into one vertex are summed, so each
 // (vertex, sensor) pair is walked once.
 //
-// The walk is a straight-line walk with CGAL's exact orientation predicates;
-// rays that pass exactly through an edge or vertex take one of the adjacent
-// facets. Threads share the weight arrays through atomic adds.
+// The walk (src/mesh/ray_walker.h) is a straight-line walk with CGAL's exact
+// orientation predicates on a compact, spatially ordered copy of the
+// triangulation; rays that pass exactly through an edge or vertex take one
+// of the adjacent facets. The vertices are processed along a Hilbert curve
+// in chunks shared by the threads, a chunk's rays sensor by sensor (nearly
+// parallel rays in a row cross mostly the same cells); the sums are in
+// fixed point, so the weights depend neither on the number of threads nor
+// on the order of the rays.
 #pragma once
 
 #include <atomic>
@@ -76,8 +81,9 @@ CellGraphWeights IntegrateVisibility(
     const MeshingTriangulation& triangulation);
 
 // The 25th percentile of the finite edge lengths (of at most ~1M sampled
-// edges).
-double LowerQuartileEdgeLength(const MeshingTriangulation& triangulation);
+// edges), on num_threads threads (<= 0: all cores).
+double LowerQuartileEdgeLength(const MeshingTriangulation& triangulation,
+                               int num_threads = -1);
 
 // Effective number of threads for `num_threads` (<= 0: all cores).
 int EffectiveNumThreads(int num_threads);

@@ -1,5 +1,7 @@
 #include "src/mesh/visibility_integration.h"
 
+#include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include <gtest/gtest.h>
@@ -120,6 +122,37 @@ TEST_F(VisibilityIntegrationTest, LengthCapMovesOutsideWeightNearTheSurface) {
               1e-4 * total(whole.source));
   EXPECT_NEAR(total(capped.sink), total(whole.sink), 1e-4 * total(whole.sink));
   EXPECT_LT(total(capped.facet_in), total(whole.facet_in));
+}
+
+// The weights are the same on one thread and on three (fixed-point sums,
+// per-thread facet arrays), and sigma is the lower quartile of all finite
+// edges (on a scene this small every edge is sampled).
+TEST_F(VisibilityIntegrationTest, SameWeightsOnAnyThreadCountAndExactSigma) {
+  VisibilityIntegrationOptions options;
+  options.num_threads = 1;
+  const CellGraphWeights one = IntegrateVisibility(options, input,
+                                                   triangulation);
+  options.num_threads = 3;
+  const CellGraphWeights three = IntegrateVisibility(options, input,
+                                                     triangulation);
+  EXPECT_EQ(one.source, three.source);
+  EXPECT_EQ(one.sink, three.sink);
+  EXPECT_EQ(one.facet_in, three.facet_in);
+  EXPECT_EQ(one.distance_sigma, three.distance_sigma);
+
+  std::vector<double> lengths;
+  const MeshDelaunay& delaunay = triangulation.delaunay;
+  for (auto edge = delaunay.finite_edges_begin();
+       edge != delaunay.finite_edges_end(); ++edge) {
+    lengths.push_back(std::sqrt(CGAL::squared_distance(
+        edge->first->vertex(edge->second)->point(),
+        edge->first->vertex(edge->third)->point())));
+  }
+  ASSERT_LT(triangulation.NumVertices(), 150000u);
+  auto quartile = lengths.begin() + lengths.size() / 4;
+  std::nth_element(lengths.begin(), quartile, lengths.end());
+  EXPECT_EQ(LowerQuartileEdgeLength(triangulation, 1), *quartile);
+  EXPECT_EQ(LowerQuartileEdgeLength(triangulation, 2), *quartile);
 }
 
 }  // namespace
