@@ -1,15 +1,14 @@
 #include "src/mesh/delaunay_mesher.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <thread>
 
 #include <Eigen/Geometry>
 
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/parallel.h"
 #include "src/mesh/graph_cut.h"
 #include "src/mesh/point_decimation.h"
 #include "src/mesh/progress_watchdog.h"
@@ -249,54 +248,44 @@ TriangleMesh DelaunayMeshing(const DelaunayMeshingOptions& options,
   constexpr size_t kCellsPerChunk = 1 << 16;
   const size_t num_chunks = (num_cells + kCellsPerChunk - 1) / kCellsPerChunk;
   std::vector<std::vector<GraphCutEdge>> chunk_edges(num_chunks);
-  std::atomic<size_t> next_chunk(0);
-  auto build_edges = [&] {
-    for (size_t chunk = next_chunk++; chunk < num_chunks;
-         chunk = next_chunk++) {
-      std::vector<GraphCutEdge>& out = chunk_edges[chunk];
-      out.reserve(2 * kCellsPerChunk);
-      const size_t end = std::min(num_cells, (chunk + 1) * kCellsPerChunk);
-      for (size_t c = chunk * kCellsPerChunk; c < end; ++c) {
-        const MeshCellHandle& cell = triangulation.cells[c];
-        for (int k = 0; k < 4; ++k) {
-          const MeshCellHandle neighbor = cell->neighbor(k);
-          if (cell->info() > neighbor->info()) continue;
-          const int mirror = neighbor->index(cell);
-          // Facets at infinity (between two infinite cells) cost
-          // quality_regularization, which keeps an infinite cell with little
-          // evidence from taking the other label than its neighbours (that
-          // would open the surface along the hull).
-          double shape = options.quality_regularization;
-          if (!delaunay.is_infinite(cell, k)) {
-            shape *= 1.0 - std::min(CosFacetCircumsphere(delaunay, cell, k),
-                                    CosFacetCircumsphere(delaunay, neighbor,
-                                                         mirror));
-          }
-          GraphCutEdge edge;
-          edge.from = cell->info();
-          edge.to = neighbor->info();
-          edge.capacity = static_cast<float>(
-              weights.facet_in[4 * static_cast<size_t>(neighbor->info()) +
-                               mirror] +
-              shape);
-          edge.reverse_capacity = static_cast<float>(
-              weights.facet_in[4 * static_cast<size_t>(cell->info()) + k] +
-              shape);
-          if (edge.capacity > 0 || edge.reverse_capacity > 0) {
-            out.push_back(edge);
-          }
+  ParallelFor(0, static_cast<int>(num_chunks), options.num_threads,
+              [&](int chunk_idx) {
+    const size_t chunk = static_cast<size_t>(chunk_idx);
+    std::vector<GraphCutEdge>& out = chunk_edges[chunk];
+    out.reserve(2 * kCellsPerChunk);
+    const size_t end = std::min(num_cells, (chunk + 1) * kCellsPerChunk);
+    for (size_t c = chunk * kCellsPerChunk; c < end; ++c) {
+      const MeshCellHandle& cell = triangulation.cells[c];
+      for (int k = 0; k < 4; ++k) {
+        const MeshCellHandle neighbor = cell->neighbor(k);
+        if (cell->info() > neighbor->info()) continue;
+        const int mirror = neighbor->index(cell);
+        // Facets at infinity (between two infinite cells) cost
+        // quality_regularization, which keeps an infinite cell with little
+        // evidence from taking the other label than its neighbours (that
+        // would open the surface along the hull).
+        double shape = options.quality_regularization;
+        if (!delaunay.is_infinite(cell, k)) {
+          shape *= 1.0 - std::min(CosFacetCircumsphere(delaunay, cell, k),
+                                  CosFacetCircumsphere(delaunay, neighbor,
+                                                       mirror));
+        }
+        GraphCutEdge edge;
+        edge.from = cell->info();
+        edge.to = neighbor->info();
+        edge.capacity = static_cast<float>(
+            weights.facet_in[4 * static_cast<size_t>(neighbor->info()) +
+                             mirror] +
+            shape);
+        edge.reverse_capacity = static_cast<float>(
+            weights.facet_in[4 * static_cast<size_t>(cell->info()) + k] +
+            shape);
+        if (edge.capacity > 0 || edge.reverse_capacity > 0) {
+          out.push_back(edge);
         }
       }
     }
-  };
-  {
-    std::vector<std::thread> threads;
-    for (int t = 1; t < EffectiveNumThreads(options.num_threads); ++t) {
-      threads.emplace_back(build_edges);
-    }
-    build_edges();
-    for (std::thread& thread : threads) thread.join();
-  }
+  });
   std::vector<GraphCutEdge> edges;
   {
     size_t num_edges = 0;

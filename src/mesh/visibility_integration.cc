@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/parallel.h"
 #include "src/mesh/ray_walker.h"
 
 namespace colmap_lidar {
@@ -175,54 +176,44 @@ double LowerQuartileEdgeLength(const MeshingTriangulation& triangulation,
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     return (z ^ (z >> 31)) % stride == 0;
   };
-  std::vector<std::vector<double>> thread_lengths(
-      EffectiveNumThreads(num_threads));
-  std::atomic<size_t> next_cell(0);
   constexpr size_t kChunk = 4096;
-  auto worker = [&](int thread_idx) {
-    std::vector<double>& lengths = thread_lengths[thread_idx];
-    while (true) {
-      const size_t chunk_begin = next_cell.fetch_add(kChunk);
-      if (chunk_begin >= num_cells) break;
-      const size_t chunk_end = std::min(num_cells, chunk_begin + kChunk);
-      for (size_t c = chunk_begin; c < chunk_end; ++c) {
-        const MeshCellHandle& cell = triangulation.cells[c];
-        if (delaunay.is_infinite(cell)) continue;
-        for (int i = 0; i < 3; ++i) {
-          for (int j = i + 1; j < 4; ++j) {
-            if (!sampled(cell->vertex(i)->info(), cell->vertex(j)->info())) {
-              continue;
+  const size_t num_chunks = (num_cells + kChunk - 1) / kChunk;
+  std::vector<std::vector<double>> chunk_lengths(num_chunks);
+  ParallelFor(0, static_cast<int>(num_chunks), num_threads, [&](int chunk) {
+    std::vector<double>& lengths = chunk_lengths[chunk];
+    const size_t chunk_begin = static_cast<size_t>(chunk) * kChunk;
+    const size_t chunk_end = std::min(num_cells, chunk_begin + kChunk);
+    for (size_t c = chunk_begin; c < chunk_end; ++c) {
+      const MeshCellHandle& cell = triangulation.cells[c];
+      if (delaunay.is_infinite(cell)) continue;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = i + 1; j < 4; ++j) {
+          if (!sampled(cell->vertex(i)->info(), cell->vertex(j)->info())) {
+            continue;
+          }
+          bool owner = true;
+          MeshDelaunay::Cell_circulator circulator =
+              delaunay.incident_cells(cell, i, j);
+          const MeshDelaunay::Cell_circulator done = circulator;
+          do {
+            if (!delaunay.is_infinite(circulator) &&
+                circulator->info() < cell->info()) {
+              owner = false;
+              break;
             }
-            bool owner = true;
-            MeshDelaunay::Cell_circulator circulator =
-                delaunay.incident_cells(cell, i, j);
-            const MeshDelaunay::Cell_circulator done = circulator;
-            do {
-              if (!delaunay.is_infinite(circulator) &&
-                  circulator->info() < cell->info()) {
-                owner = false;
-                break;
-              }
-            } while (++circulator != done);
-            if (owner) {
-              lengths.push_back(std::sqrt(CGAL::squared_distance(
-                  cell->vertex(i)->point(), cell->vertex(j)->point())));
-            }
+          } while (++circulator != done);
+          if (owner) {
+            lengths.push_back(std::sqrt(CGAL::squared_distance(
+                cell->vertex(i)->point(), cell->vertex(j)->point())));
           }
         }
       }
     }
-  };
-  std::vector<std::thread> threads;
-  for (size_t t = 1; t < thread_lengths.size(); ++t) {
-    threads.emplace_back(worker, static_cast<int>(t));
-  }
-  worker(0);
-  for (std::thread& thread : threads) thread.join();
-  // The same multiset of lengths whichever thread found them: the
-  // quartile does not depend on their order.
+  });
+  // The same multiset of lengths whichever order the chunks ran in: the
+  // quartile does not depend on it.
   std::vector<double> lengths;
-  for (std::vector<double>& part : thread_lengths) {
+  for (std::vector<double>& part : chunk_lengths) {
     lengths.insert(lengths.end(), part.begin(), part.end());
     std::vector<double>().swap(part);
   }
