@@ -92,25 +92,86 @@ size_t CheckPcdHeader(const std::string& path) {
       ReadHeaderLines(path, "DATA", &header_bytes);
   // PCL's header parser stops at the first line that is neither empty, nor
   // a comment, nor a keyword line; fields it has not seen by then stay unset
-  // and it crashes reading the body. Only accept headers that both parsers
-  // read the same way: every line up to DATA is empty, starts with '#', or
-  // starts with a keyword followed by a blank.
+  // and it crashes reading the body. It also takes every keyword line as it
+  // comes: a repeated line overrides the earlier one, POINTS sizes its buffer
+  // from the fields seen so far, and TYPE reads the sizes of the last SIZE.
+  // Only accept headers that both parsers read the same way: every line up
+  // to DATA is empty, starts with '#', or starts with a keyword followed by a
+  // blank; each keyword at most once and in the order of the PCD 0.7
+  // specification (which PCL's writer follows).
   {
     static const char* const kKeywords[] = {
-        "VERSION", "FIELDS", "COLUMNS", "SIZE",   "TYPE",
-        "COUNT",   "WIDTH",  "HEIGHT",  "VIEWPOINT", "POINTS", "DATA"};
+        "VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
+        "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+    constexpr int kNumKeywords = sizeof(kKeywords) / sizeof(kKeywords[0]);
+    int last_rank = -1;
     std::ifstream file(path, std::ios::binary);
     std::string line;
     for (size_t i = 0; i < lines.size() && std::getline(file, line); ++i) {
-      bool ok = line.empty() || line[0] == '#';
-      for (const char* keyword : kKeywords) {
-        const size_t length = std::strlen(keyword);
-        ok = ok || (line.compare(0, length, keyword) == 0 &&
-                    line.size() > length &&
-                    (line[length] == ' ' || line[length] == '\t'));
+      if (line.empty() || line[0] == '#') {
+        continue;
       }
-      THROW_CHECK(ok, "Cannot parse the header of PCD file "
-                          << path << ": unexpected line " << i + 1);
+      THROW_CHECK(line.compare(0, 7, "COLUMNS") != 0,
+                  "PCD file " << path << ": line " << i + 1
+                              << " is a COLUMNS line (PCD before 0.7), "
+                                 "not supported: use FIELDS");
+      int rank = -1;
+      for (int k = 0; k < kNumKeywords; ++k) {
+        const size_t length = std::strlen(kKeywords[k]);
+        if (line.compare(0, length, kKeywords[k]) == 0 &&
+            line.size() > length &&
+            (line[length] == ' ' || line[length] == '\t')) {
+          rank = k;
+        }
+      }
+      THROW_CHECK(rank >= 0, "Cannot parse the header of PCD file "
+                                 << path << ": unexpected line " << i + 1);
+      // A carriage return splits a token for PCL but not for us.
+      THROW_CHECK(line.find('\r') == std::string::npos ||
+                      line.find('\r') + 1 == line.size(),
+                  "Cannot parse the header of PCD file "
+                      << path << ": carriage return inside line " << i + 1);
+      THROW_CHECK(rank > last_rank,
+                  "Cannot parse the header of PCD file "
+                      << path << ": " << kKeywords[rank] << " on line "
+                      << i + 1
+                      << " repeated or out of order (PCD 0.7 order: VERSION, "
+                         "FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, "
+                         "VIEWPOINT, POINTS, DATA)");
+      last_rank = rank;
+    }
+    // PCL's parser does not stop at DATA: it goes on reading lines as header
+    // lines, skipping empty and comment lines, until one starts with no
+    // keyword. A keyword there would redefine the cloud after our checks
+    // (fuzz_pcd: a SIZE or POINTS line in the data overflowed PCL's buffer),
+    // so the first such line of the data must not start with one. Binary
+    // data is split at its newline bytes exactly as PCL does.
+    file.clear();
+    file.seekg(static_cast<std::streamoff>(header_bytes));
+    while (std::getline(file, line)) {
+      if (line.empty()) {
+        continue;
+      }
+      // PCL's first token: after leading white space, up to the next.
+      const char* kSpace = " \t\n\v\f\r";
+      const size_t begin = line.find_first_not_of(kSpace);
+      const std::string token =
+          begin == std::string::npos
+              ? std::string()
+              : line.substr(begin, line.find_first_of(kSpace, begin) - begin);
+      if (!token.empty() && token[0] == '#') {
+        continue;
+      }
+      for (const char* keyword :
+           {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT", "WIDTH",
+            "HEIGHT", "VIEWPOINT", "POINTS", "DATA"}) {
+        THROW_CHECK(token.compare(0, std::strlen(keyword), keyword) != 0,
+                    "Cannot parse PCD file "
+                        << path << ": the data after the DATA line starts "
+                                   "with a header keyword ("
+                        << keyword << "), which PCL would read as header");
+      }
+      break;
     }
   }
   std::map<std::string, std::vector<std::string>> entries;
@@ -149,6 +210,16 @@ size_t CheckPcdHeader(const std::string& path) {
                     (size == 1 || size == 2 || size == 4 || size == 8),
                 "PCD file " << path << ": invalid SIZE or COUNT of field '"
                             << fields[i] << "'");
+    // The combinations PCL maps to a data type (pcl::getFieldType); any
+    // other gives PCL's field no size, and the records no longer match.
+    const std::string type = StringToLower(entries["TYPE"][i]);
+    THROW_CHECK(((type == "i" || type == "u") && size != 0) ||
+                    (type == "f" && (size == 4 || size == 8)),
+                "PCD file " << path << ": field '" << fields[i]
+                            << "' has TYPE '" << entries["TYPE"][i]
+                            << "' with SIZE " << size
+                            << " (expected I or U of 1, 2, 4 or 8 bytes, F of "
+                               "4 or 8)");
     point_bytes += static_cast<size_t>(size * count);
     point_elements += static_cast<size_t>(count);
   }

@@ -351,6 +351,58 @@ TEST(ScanIo, OtherErrorsNameTheFile) {
   message = ErrorMessage([&] { ReadLidarScan(bad_header_pcd); });
   EXPECT_NE(message.find(bad_header_pcd), std::string::npos) << message;
 
+  // Headers that PCL reads differently from our check (it takes keyword
+  // lines as they come, even after DATA): each is refused with the reason.
+  const std::string valid_fields = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n";
+  const std::pair<std::string, std::string> kRefused[] = {
+      // Found by fuzz_pcd: PCL resized its buffer after our checks.
+      {valid_fields + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n"
+                      "\n# comment\nPOINTS 1000\n1 2 3\n",
+       "after the DATA line starts with a header keyword (POINTS)"},
+      {valid_fields + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA binary\n"
+                      "SIZE 8 8 8\n0123456789ab",
+       "after the DATA line starts with a header keyword (SIZE)"},
+      {valid_fields + "SIZE 8 8 8\nWIDTH 1\nHEIGHT 1\nPOINTS 1\n"
+                      "DATA ascii\n1 2 3\n",
+       "SIZE on line 4 repeated or out of order"},
+      {"FIELDS x y z\nTYPE F F F\nSIZE 4 4 4\nWIDTH 1\nHEIGHT 1\n"
+       "POINTS 1\nDATA ascii\n1 2 3\n",
+       "SIZE on line 3 repeated or out of order"},
+      {"COLUMNS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nHEIGHT 1\n"
+       "POINTS 1\nDATA ascii\n1 2 3\n",
+       "COLUMNS line"},
+      {"FIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nWIDTH 1\nHEIGHT 1\n"
+       "POINTS 1\nDATA ascii\n1 2 3\n",
+       "field 'z' has TYPE 'F' with SIZE 2"},
+      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F X\nWIDTH 1\nHEIGHT 1\n"
+       "POINTS 1\nDATA ascii\n1 2 3\n",
+       "field 'z' has TYPE 'X'"},
+      {"FIELDS x y\rz\nSIZE 4 4\nTYPE F F\nWIDTH 1\nHEIGHT 1\n"
+       "POINTS 1\nDATA ascii\n1 2\n",
+       "carriage return inside line 1"},
+  };
+  for (const auto& [header, reason] : kRefused) {
+    const std::string refused_pcd = JoinPaths(dir, "refused.pcd");
+    WriteBytes(refused_pcd, header);
+    for (const std::string& message :
+         {ErrorMessage([&] { ReadLidarScan(refused_pcd); }),
+          ErrorMessage([&] { CountLidarScanPoints(refused_pcd); })}) {
+      EXPECT_NE(message.find(refused_pcd), std::string::npos) << message;
+      EXPECT_NE(message.find(reason), std::string::npos) << message;
+    }
+  }
+  // Every optional line, CRLF line ends and lower-case types stay readable.
+  const std::string crlf_pcd = JoinPaths(dir, "crlf.pcd");
+  WriteBytes(crlf_pcd,
+             "# .PCD v0.7\r\nVERSION 0.7\r\nFIELDS x y z\r\nSIZE 4 4 8\r\n"
+             "TYPE F f F\r\nCOUNT 1 1 1\r\nWIDTH 2\r\nHEIGHT 1\r\n"
+             "VIEWPOINT 0 0 0 1 0 0 0\r\nPOINTS 2\r\nDATA ascii\r\n"
+             "1 2 3\r\n4 5 6\r\n");
+  EXPECT_EQ(CountLidarScanPoints(crlf_pcd), 2u);
+  const LidarScan crlf = ReadLidarScan(crlf_pcd);
+  ASSERT_EQ(crlf.size(), 2u);
+  EXPECT_EQ(crlf.points[1], Eigen::Vector3f(4, 5, 6));
+
   const std::string empty_pcd = JoinPaths(dir, "empty.pcd");
   WriteLidarScanPcd(empty_pcd, LidarScan());
   EXPECT_EQ(CountLidarScanPoints(empty_pcd), 0u);
