@@ -50,6 +50,11 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      &input->line_sample_step_m,
                      "Spacing of the samples along a 3D line segment, "
                      "metres, > 0.");
+  options->AddOption("DelaunayMeshing.validate_lines",
+                     &input->validate_lines,
+                     "Sample only the 3D lines that lie on a crease of the "
+                     "visual and LIDAR points, moved onto it; false samples "
+                     "every line where it was estimated (the paper).");
   options->AddOption("DelaunayMeshing.lidar_denoise_radius_m",
                      &input->lidar_denoising.radius_m,
                      "LIDAR voxels are projected onto the plane fitted to "

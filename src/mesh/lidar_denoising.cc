@@ -9,72 +9,9 @@
 
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
+#include "src/mesh/radius_grid.h"
 
 namespace colmap_lidar {
-namespace {
-
-// A uniform grid with cells of the search radius: the neighbours of a point
-// lie in the 27 cells around its own.
-class RadiusGrid {
- public:
-  RadiusGrid(const std::vector<Eigen::Vector3d>& positions, double cell_size)
-      : cell_size_(cell_size) {
-    order_.resize(positions.size());
-    std::iota(order_.begin(), order_.end(), 0);
-    std::vector<uint64_t> keys(positions.size());
-    for (size_t i = 0; i < positions.size(); ++i) {
-      keys[i] = Key(Cell(positions[i]));
-    }
-    std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
-      return keys[a] < keys[b];
-    });
-    for (size_t begin = 0; begin < order_.size();) {
-      size_t end = begin + 1;
-      while (end < order_.size() && keys[order_[end]] == keys[order_[begin]]) {
-        ++end;
-      }
-      ranges_.emplace(keys[order_[begin]], std::make_pair(begin, end));
-      begin = end;
-    }
-  }
-
-  // Calls visit(index) for every point in the 27 cells around `position`.
-  template <typename Visit>
-  void ForEachNear(const Eigen::Vector3d& position, Visit&& visit) const {
-    const Eigen::Vector3i center = Cell(position);
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it =
-              ranges_.find(Key(center + Eigen::Vector3i(dx, dy, dz)));
-          if (it == ranges_.end()) continue;
-          for (size_t k = it->second.first; k < it->second.second; ++k) {
-            visit(order_[k]);
-          }
-        }
-      }
-    }
-  }
-
- private:
-  Eigen::Vector3i Cell(const Eigen::Vector3d& position) const {
-    return (position / cell_size_).array().floor().cast<int>();
-  }
-  static uint64_t Key(const Eigen::Vector3i& cell) {
-    // 21 bits per axis (two's complement wrap): distinct for any scene
-    // smaller than 2^21 cells per axis.
-    const uint64_t mask = (1ull << 21) - 1;
-    return ((static_cast<uint64_t>(cell.x()) & mask) << 42) |
-           ((static_cast<uint64_t>(cell.y()) & mask) << 21) |
-           (static_cast<uint64_t>(cell.z()) & mask);
-  }
-
-  double cell_size_;
-  std::vector<uint32_t> order_;
-  std::unordered_map<uint64_t, std::pair<size_t, size_t>> ranges_;
-};
-
-}  // namespace
 
 bool LidarDenoisingOptions::Check() const {
   if (!(radius_m >= 0)) {

@@ -131,6 +131,7 @@ TEST_F(LineObservationsTest, SegmentIndexBeyondTheDatabaseNamesIt) {
 TEST_F(LineObservationsTest, SamplesAreSeenOnlyByTheImagesThatObservedThem) {
   MeshingInputOptions options;
   options.line_sample_step_m = 0.1;  // 11 samples, t = 0, 0.1, ..., 1.
+  options.validate_lines = false;  // No surface points to validate against.
   const auto observations = ReadLineObservations(model_, database_);
   MeshingInput input;
   AddCameraSensors(model_, &input);

@@ -1,6 +1,7 @@
 #include "src/mesh/meshing_input.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -11,6 +12,7 @@
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/parallel.h"
 #include "colmap_ext/util/ply.h"
 #include "colmap_ext/util/string.h"
 
@@ -96,6 +98,7 @@ bool MeshingInputOptions::Check() const {
     return false;
   }
   if (!lidar_denoising.Check()) return false;
+  if (validate_lines && !line_validation.Check()) return false;
   return true;
 }
 
@@ -285,6 +288,61 @@ void AddLidarPoints(const MeshingInputOptions& options,
   }
 }
 
+namespace {
+
+// Validates every segment of `segments` against `points` (the visual and
+// LIDAR points of the input) on the threads; one INFO line of the outcome.
+void ValidateLines(const MeshingInputOptions& options,
+                   const std::vector<Eigen::Vector3d>& points, int num_threads,
+                   std::map<line3D_t, ValidatedLine>* segments) {
+  if (segments->empty()) return;
+  if (points.size() <=
+      static_cast<size_t>(options.line_validation.spacing_neighbor)) {
+    LOG(WARNING) << "Line validation: too few surface points; every line "
+                    "is left out";
+    for (auto& [line3D_id, segment] : *segments) {
+      segment.status = LineValidationStatus::kFewPoints;
+    }
+    return;
+  }
+  const LineValidator validator(options.line_validation, points);
+  std::vector<std::pair<line3D_t, ValidatedLine*>> items;
+  for (auto& [line3D_id, segment] : *segments) {
+    items.emplace_back(line3D_id, &segment);
+  }
+  ParallelFor(0, static_cast<int>(items.size()), num_threads, [&](int i) {
+    ValidatedLine& segment = *items[i].second;
+    segment = validator.Validate(segment.start, segment.end, items[i].first);
+  });
+  std::array<size_t, kNumLineValidationStatuses> counts{};
+  std::vector<double> offsets;
+  for (const auto& [line3D_id, segment] : *segments) {
+    ++counts[static_cast<int>(segment.status)];
+    if (segment.status == LineValidationStatus::kCrease) {
+      offsets.push_back(segment.offset_m);
+    }
+  }
+  std::ostringstream dropped;
+  for (int status = 1; status < kNumLineValidationStatuses; ++status) {
+    dropped << (status > 1 ? ", " : "")
+            << LineValidationStatusName(
+                   static_cast<LineValidationStatus>(status))
+            << " " << counts[status];
+  }
+  double median_offset = 0;
+  if (!offsets.empty()) {
+    std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2,
+                     offsets.end());
+    median_offset = offsets[offsets.size() / 2];
+  }
+  LOG(INFO) << "Line validation (point spacing " << validator.spacing()
+            << " m): " << counts[0] << " of " << segments->size()
+            << " 3D lines on a crease of the points, moved onto it by "
+            << median_offset << " m (median); left out: " << dropped.str();
+}
+
+}  // namespace
+
 size_t AddLineSamples(
     const MeshingInputOptions& options, const Reconstruction& dense_model,
     const Reconstruction& lines_model,
@@ -293,7 +351,21 @@ size_t AddLineSamples(
   size_t num_lines_used = 0;
   size_t num_samples = 0;
   size_t num_unobserved = 0;
+  // The segments to sample: as estimated, or validated against the points
+  // gathered so far (line_validation.h) and moved onto their crease.
+  std::map<line3D_t, ValidatedLine> segments;
   for (const auto& [line3D_id, line3D] : lines_model.lines3D) {
+    ValidatedLine& segment = segments[line3D_id];
+    segment.status = LineValidationStatus::kCrease;
+    segment.start = line3D.start_in_world;
+    segment.end = line3D.end_in_world;
+  }
+  if (options.validate_lines) {
+    ValidateLines(options, input->positions, options.num_threads, &segments);
+  }
+  for (const auto& [line3D_id, line3D] : lines_model.lines3D) {
+    const ValidatedLine& segment = segments.at(line3D_id);
+    if (segment.status != LineValidationStatus::kCrease) continue;
     // (sensor index, observed interval) of each image of the track.
     struct Observer {
       uint32_t sensor_idx;
@@ -321,8 +393,8 @@ size_t AddLineSamples(
       }
     }
     if (observers.empty()) continue;
-    const Eigen::Vector3d& start = line3D.start_in_world;
-    const Eigen::Vector3d& end = line3D.end_in_world;
+    const Eigen::Vector3d& start = segment.start;
+    const Eigen::Vector3d& end = segment.end;
     const int num_steps = std::max(
         1, static_cast<int>(std::ceil((end - start).norm() /
                                       options.line_sample_step_m)));
@@ -359,8 +431,12 @@ size_t AddLineSamples(
     }
     ++num_lines_used;
   }
-  if (num_lines_used < lines_model.lines3D.size()) {
-    LOG(WARNING) << lines_model.lines3D.size() - num_lines_used
+  size_t num_kept = 0;
+  for (const auto& [line3D_id, segment] : segments) {
+    num_kept += segment.status == LineValidationStatus::kCrease;
+  }
+  if (num_lines_used < num_kept) {
+    LOG(WARNING) << num_kept - num_lines_used
                  << " 3D lines are seen by no image of the dense model";
   }
   if (num_unobserved > 0) {

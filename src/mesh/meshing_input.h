@@ -14,6 +14,8 @@
 //   images in the line's track (matched by image_id) that observed that part
 //   of the line (line_observations.h; given the database of the 2D
 //   segments, else every image of the track sees the whole line).
+//   By default only the segments on a crease of the visual and LIDAR points
+//   are sampled, moved onto it (line_validation.h).
 // Each point carries the free-space weight of each of its rays.
 #pragma once
 
@@ -28,6 +30,7 @@
 #include "colmap_ext/scene/reconstruction.h"
 #include "src/mesh/lidar_denoising.h"
 #include "src/mesh/line_observations.h"
+#include "src/mesh/line_validation.h"
 
 namespace colmap_lidar {
 
@@ -97,6 +100,11 @@ struct MeshingInputOptions {
   // Spacing of the samples along a 3D segment, metres (> 0); both end points
   // are always sampled.
   double line_sample_step_m = 0.02;
+  // Sample only the segments that lie on a crease of the visual and LIDAR
+  // points, moved onto it (line_validation.h); false samples every segment
+  // where it was estimated (the paper).
+  bool validate_lines = true;
+  LineValidationOptions line_validation;
   // LIDAR voxels are projected onto their local plane when it is planar
   // (lidar_denoising.h); radius 0 keeps the centroids as fused.
   LidarDenoisingOptions lidar_denoising;
@@ -151,7 +159,9 @@ void AddLidarPoints(const MeshingInputOptions& options,
 // `observations` (ReadLineObservations) restrict the rays of a sample to the
 // images whose observed interval, widened by one sample step, contains it; a
 // sample that no image observed is not added. nullptr: every image of the
-// track sees every sample. Returns the number of samples added.
+// track sees every sample. With options.validate_lines, only the segments on
+// a crease of the points already in `input` are sampled, moved onto it
+// (line_validation.h). Returns the number of samples added.
 size_t AddLineSamples(
     const MeshingInputOptions& options, const Reconstruction& dense_model,
     const Reconstruction& lines_model,

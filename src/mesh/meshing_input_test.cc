@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -58,6 +59,7 @@ TEST_F(MeshingInputTest, ReadsVisualLidarAndLines) {
 
   MeshingInputOptions options;
   options.line_sample_step_m = 0.1;
+  options.validate_lines = false;  // Every line sampled (validated below).
   const MeshingInput input = ReadMeshingInput(options, workspace_, lines_dir);
   EXPECT_EQ(input.NumPoints(MeshingPointSource::kVisual),
             points_.positions.size());
@@ -70,6 +72,30 @@ TEST_F(MeshingInputTest, ReadsVisualLidarAndLines) {
         1 + std::ceil((line.end_in_world - line.start_in_world).norm() / 0.1 - 1e-9);
   }
   EXPECT_EQ(input.NumPoints(MeshingPointSource::kLine), expected_line_samples);
+
+  // Validated against the points (the default): the box's edges are
+  // creases of its faces and the ground's, kept where the points show them
+  // (the sparse ground, 0.2 m, leaves at most one out), and their samples
+  // stay within a sixth of the point spacing (6 cm) of the true edges.
+  options.validate_lines = true;
+  const MeshingInput validated =
+      ReadMeshingInput(options, workspace_, lines_dir);
+  const size_t num_validated = validated.NumPoints(MeshingPointSource::kLine);
+  EXPECT_GE(num_validated, expected_line_samples - 13);
+  EXPECT_LE(num_validated, expected_line_samples);
+  for (size_t i = 0; i < validated.NumPoints(); ++i) {
+    if (validated.sources[i] != MeshingPointSource::kLine) continue;
+    double distance = std::numeric_limits<double>::infinity();
+    for (const auto& [id, line] : lines_model.lines3D) {
+      const Eigen::Vector3d direction =
+          (line.end_in_world - line.start_in_world).normalized();
+      const Eigen::Vector3d offset =
+          validated.positions[i] - line.start_in_world;
+      distance = std::min(
+          distance, (offset - offset.dot(direction) * direction).norm());
+    }
+    EXPECT_LT(distance, 0.01) << "line sample " << i;
+  }
   // 12 cameras + 3 LIDAR origins.
   ASSERT_EQ(input.sensors.size(), 15u);
   for (int i = 0; i < 3; ++i) {

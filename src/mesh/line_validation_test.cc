@@ -1,0 +1,161 @@
+#include "src/mesh/line_validation.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "colmap_ext/util/logging.h"
+
+namespace colmap_lidar {
+namespace {
+
+// Points on two half-planes meeting at the x axis, as a wall (z >= 0 on
+// y = 0) on a floor (y >= 0 on z = 0): a concave crease along x, sampled
+// every `spacing` metres with `noise` (std, metres) across each plane.
+std::vector<Eigen::Vector3d> CornerPoints(double spacing, double noise,
+                                          double angle_deg = 90.0) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> gauss(0.0, noise);
+  const double angle = angle_deg * M_PI / 180.0;
+  // The wall's direction in the y-z plane, at angle from the floor (+y).
+  const Eigen::Vector3d wall_dir(0, std::cos(angle), std::sin(angle));
+  const Eigen::Vector3d wall_normal(0, -std::sin(angle), std::cos(angle));
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -2; x <= 2; x += spacing) {
+    for (double u = spacing / 2; u <= 1.0; u += spacing) {
+      points.emplace_back(x, u, gauss(rng));                    // floor
+      points.push_back(Eigen::Vector3d(x, 0, 0) + u * wall_dir +
+                       gauss(rng) * wall_normal);               // wall
+    }
+  }
+  return points;
+}
+
+TEST(LineValidation, MovesASegmentOntoTheCreaseOfThePoints) {
+  const std::vector<Eigen::Vector3d> points = CornerPoints(0.02, 0.002);
+  const LineValidator validator(LineValidationOptions(), points);
+  // Spacing: the 4th neighbour on a 2 cm grid is 2 cm away (the 4 edge
+  // neighbours), up to the noise.
+  EXPECT_NEAR(validator.spacing(), 0.02, 0.003);
+  // 1.8 cm off the crease, slightly skewed: within max_offset_factor * s
+  // (2.6 cm).
+  const Eigen::Vector3d start(-1.0, 0.01, 0.015);
+  const Eigen::Vector3d end(1.0, 0.015, 0.01);
+  const ValidatedLine line = validator.Validate(start, end, 1);
+  ASSERT_EQ(line.status, LineValidationStatus::kCrease)
+      << LineValidationStatusName(line.status);
+  // Moved by one shift across the segment: onto the crease at the
+  // segment's middle, within a quarter of the spacing (the skew blurs the
+  // section by 0.5 cm).
+  const Eigen::Vector3d middle = 0.5 * (line.start + line.end);
+  EXPECT_LT(std::hypot(middle.y(), middle.z()), 0.005);
+  // Parallel to the crease, 1.5 cm off: onto it within the noise.
+  const ValidatedLine parallel = validator.Validate(
+      Eigen::Vector3d(-1, 0.015, 0.0), Eigen::Vector3d(1, 0.015, 0.0), 2);
+  ASSERT_EQ(parallel.status, LineValidationStatus::kCrease);
+  EXPECT_LT(std::hypot(parallel.start.y(), parallel.start.z()), 0.002);
+  EXPECT_NEAR(line.offset_m, std::hypot(0.0125, 0.0125), 0.003);
+  EXPECT_NEAR((line.end - line.start).norm(), (end - start).norm(), 1e-12);
+  // Deterministic for a seed.
+  const ValidatedLine again = validator.Validate(start, end, 1);
+  EXPECT_EQ(again.start, line.start);
+}
+
+TEST(LineValidation, AcceptsObtuseCreasesAndRejectsFlatOnes) {
+  for (const double angle_deg : {45.0, 135.0}) {
+    const std::vector<Eigen::Vector3d> points =
+        CornerPoints(0.02, 0.002, angle_deg);
+    const LineValidator validator(LineValidationOptions(), points);
+    EXPECT_EQ(validator
+                  .Validate(Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(1, 0, 0),
+                            3)
+                  .status,
+              LineValidationStatus::kCrease)
+        << angle_deg;
+  }
+  // 170 degrees between floor and wall: 10 degrees between the faces'
+  // cross-sections, below min_crease_angle_deg.
+  const std::vector<Eigen::Vector3d> flat = CornerPoints(0.02, 0.002, 170.0);
+  const LineValidator validator(LineValidationOptions(), flat);
+  const ValidatedLine line = validator.Validate(Eigen::Vector3d(-1, 0, 0),
+                                                Eigen::Vector3d(1, 0, 0), 3);
+  EXPECT_TRUE(line.status == LineValidationStatus::kParallelFaces ||
+              line.status == LineValidationStatus::kOnePlane)
+      << LineValidationStatusName(line.status);
+  EXPECT_EQ(line.start, Eigen::Vector3d(-1, 0, 0));
+}
+
+TEST(LineValidation, LeavesOutSegmentsThatAreNotOnACrease) {
+  const std::vector<Eigen::Vector3d> points = CornerPoints(0.02, 0.002);
+  const LineValidator validator(LineValidationOptions(), points);
+  // A texture line on the floor, 0.5 m from the crease: one face.
+  EXPECT_EQ(validator
+                .Validate(Eigen::Vector3d(-1, 0.5, 0),
+                          Eigen::Vector3d(1, 0.5, 0), 1)
+                .status,
+            LineValidationStatus::kOnePlane);
+  // Parallel to the crease but 5 cm off it in the open: the support sees
+  // the corner farther than max_offset_factor * s (2.6 cm).
+  const ValidatedLine off = validator.Validate(
+      Eigen::Vector3d(-1, 0.05, 0.05), Eigen::Vector3d(1, 0.05, 0.05), 1);
+  EXPECT_EQ(off.status, LineValidationStatus::kOffCrease)
+      << LineValidationStatusName(off.status);
+  EXPECT_NEAR(off.offset_m, std::hypot(0.05, 0.05), 0.005);
+  // In empty space.
+  EXPECT_EQ(validator
+                .Validate(Eigen::Vector3d(-1, 3, 3), Eigen::Vector3d(1, 3, 3),
+                          1)
+                .status,
+            LineValidationStatus::kFewPoints);
+  // Two faces crossing (a plus-shaped section), not a corner.
+  std::vector<Eigen::Vector3d> cross = points;
+  for (const Eigen::Vector3d& p : points) cross.push_back(-p);
+  const LineValidator cross_validator(LineValidationOptions(), cross);
+  EXPECT_EQ(cross_validator
+                .Validate(Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(1, 0, 0),
+                          1)
+                .status,
+            LineValidationStatus::kNotACorner);
+}
+
+TEST(LineValidation, StepEdgeIsLeftOut) {
+  // A 5 cm step: two parallel floors, the near one ending at y = 0.
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -1; x <= 1; x += 0.02) {
+    for (double y = 0.01; y <= 0.6; y += 0.02) {
+      points.emplace_back(x, y, 0.05);
+      points.emplace_back(x, -y, 0.0);
+    }
+  }
+  const LineValidator validator(LineValidationOptions(), points);
+  const ValidatedLine line = validator.Validate(
+      Eigen::Vector3d(-0.8, 0, 0.05), Eigen::Vector3d(0.8, 0, 0.05), 1);
+  EXPECT_EQ(line.status, LineValidationStatus::kParallelFaces)
+      << LineValidationStatusName(line.status);
+}
+
+TEST(LineValidation, OptionsAndInputAreChecked) {
+  LineValidationOptions options;
+  EXPECT_TRUE(options.Check());
+  options.min_side_fraction = 0.5;
+  EXPECT_FALSE(options.Check());
+  options = LineValidationOptions();
+  options.min_crease_angle_deg = 0;
+  EXPECT_FALSE(options.Check());
+  options = LineValidationOptions();
+  options.max_offset_factor = -1;
+  EXPECT_FALSE(options.Check());
+  const std::vector<Eigen::Vector3d> few(3, Eigen::Vector3d::Zero());
+  EXPECT_THROW(LineValidator(LineValidationOptions(), few), Error);
+  // Coincident points: no crease, no hang (a 0.1 mm spacing floor, the
+  // grid's box search bounded by its points).
+  const std::vector<Eigen::Vector3d> same(100, Eigen::Vector3d::Ones());
+  const LineValidator validator(LineValidationOptions(), same);
+  EXPECT_NE(validator
+                .Validate(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 1, 1), 1)
+                .status,
+            LineValidationStatus::kCrease);
+}
+
+}  // namespace
+}  // namespace colmap_lidar
