@@ -43,6 +43,7 @@
 #include "src/eval/mesh_sampling.h"
 #include "src/eval/real_data_evaluator.h"
 #include "src/lidar/lidar_test_scene.h"
+#include "src/lines/debug_overlay.h"
 #include "src/matching/track_export.h"
 #include "src/pipeline/pipeline_evaluation.h"
 #include "src/pipeline/stage_record.h"
@@ -322,7 +323,8 @@ TEST(JsonOutputs, EveryTableIsCheckedHere) {
   }
   EXPECT_EQ(ids, std::set<std::string>({"pose", "mesh", "mesh_alignment",
                                         "line", "depth", "real_data",
-                                        "stages", "line_tracks"}));
+                                        "stages", "line_tracks",
+                                        "line_outcomes"}));
 }
 
 // ---------------------------------------------------------------------------
@@ -617,6 +619,30 @@ TEST(JsonOutputs, LineTracks) {
   const std::string path = JoinPaths(dir, "tracks.json");
   WriteLineTracksJson(path, database, {track});
   ExpectKeysAsDocumented(path, KeyTable("line_tracks"));
+}
+
+TEST(JsonOutputs, LineOutcomes) {
+  ViewLines lines;
+  lines.num_lsd_segments = 2;
+  lines.range_noise_m = 0.02;
+  SegmentOutcome lifted;
+  lifted.segment.start = {10.5, 20.25};
+  lifted.segment.end = {100.0, 0.1};
+  lifted.edge_result = LiftResult::kLifted;
+  lifted.lifted2D = lifted.segment;
+  lifted.start3D_in_cam = {-1.0, 0.5, 5.0};
+  lifted.end3D_in_cam = {1.0, -0.25, 7.0};
+  SegmentOutcome rejected = lifted;
+  rejected.edge_result = LiftResult::kTooFewPoints;
+  rejected.plane_result = PlaneLiftResult::kBoundary;
+  lines.outcomes = {lifted, rejected};
+  const std::string path =
+      JoinPaths(testing::CreateTestDir(), "000000.json");
+  WriteJsonFile(path, LineOutcomesToJson("000000.png", lines));
+  ExpectKeysAsDocumented(path, KeyTable("line_outcomes"));
+  const Json json = ReadJsonFile(path);
+  EXPECT_EQ(json["segments"][1]["plane_result"], "boundary");
+  EXPECT_FALSE(json["segments"][1].contains("start3D_in_cam"));
 }
 
 }  // namespace

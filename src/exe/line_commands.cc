@@ -230,6 +230,19 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
                      "support, [0, 1].");
   options->AddOption(s + "plane_keep_occlusions", &o->planes.keep_occlusions,
                      "Plane lifting: keep occluding and step edges, 0/1.");
+  options->AddOption(s + "plane_boundary_band_fraction",
+                     &o->planes.boundary_band_fraction,
+                     "Plane lifting: an occluding edge's step must show in "
+                     "the points within this fraction of the band's reach, "
+                     "(0, 1].");
+  options->AddOption(s + "plane_max_boundary_violations",
+                     &o->planes.max_boundary_violations,
+                     "Plane lifting: fraction of those points that may "
+                     "disagree, [0, 1).");
+  options->AddOption(s + "plane_snap_to_near_points",
+                     &o->planes.snap_to_near_points,
+                     "Plane lifting: place an occluding edge at the depth of "
+                     "the near side's points next to it, 0/1.");
   // Fusion.
   options->AddOption(s + "fusion_max_angle_deg", &o->fusion.max_angle_deg,
                      "Fusion: maximum angle between 3D segments, degrees.");
@@ -261,7 +274,8 @@ int RunLineExtractor(int argc, char** argv) {
                     "Text file with one image name per line; empty: all "
                     "images with a LIDAR scan.");
   options.AddOption("debug_path", &debug_path,
-                    "Folder for per-image overlays (PNG); empty: none.");
+                    "Folder for per-image overlays (PNG) and per-segment "
+                    "outcomes (JSON); empty: none.");
   AddLineExtractionOptions(&extraction_options, &options);
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();

@@ -27,6 +27,46 @@ cv::Point ToCv(const Eigen::Vector2d& pixel) {
                    static_cast<int>(std::lround(pixel.y() - 0.5)));
 }
 
+// The colour of an LSD segment that was not lifted, by the first reason
+// that stopped it: no LIDAR support at all (dark grey), a texture line or
+// the same surface on both sides (blue), a fit that did not agree with the
+// segment (orange), too little support along it (magenta).
+cv::Scalar SegmentRejectionColor(const SegmentOutcome& outcome) {
+  const bool texture = outcome.edge_result == LiftResult::kTexture ||
+                       outcome.plane_result == PlaneLiftResult::kTexture;
+  if (texture) return cv::Scalar(255, 120, 0);
+  const bool disagree =
+      outcome.edge_result == LiftResult::kReprojection ||
+      outcome.edge_result == LiftResult::kBackProjection ||
+      outcome.edge_result == LiftResult::kRansacFailed ||
+      outcome.plane_result == PlaneLiftResult::kReprojection ||
+      outcome.plane_result == PlaneLiftResult::kBackProjection ||
+      outcome.plane_result == PlaneLiftResult::kOutOfRange;
+  if (disagree) return cv::Scalar(0, 140, 255);
+  const bool low_coverage =
+      outcome.edge_result == LiftResult::kLowCoverage ||
+      outcome.plane_result == PlaneLiftResult::kLowCoverage;
+  if (low_coverage) return cv::Scalar(200, 0, 200);
+  return cv::Scalar(90, 90, 90);
+}
+
+void DrawLegend(cv::Mat* overlay) {
+  const std::pair<const char*, cv::Scalar> entries[] = {
+      {"no LIDAR support", cv::Scalar(90, 90, 90)},
+      {"texture / one surface", cv::Scalar(255, 120, 0)},
+      {"fit disagrees", cv::Scalar(0, 140, 255)},
+      {"low coverage", cv::Scalar(200, 0, 200)}};
+  int y = 14;
+  for (const auto& [text, color] : entries) {
+    cv::line(*overlay, cv::Point(6, y - 4), cv::Point(26, y - 4), color, 2);
+    cv::putText(*overlay, text, cv::Point(32, y), cv::FONT_HERSHEY_PLAIN,
+                0.9, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    y += 14;
+  }
+}
+
+Json PixelToJson(const Eigen::Vector2d& pixel) { return VectorToJson(pixel); }
+
 }  // namespace
 
 cv::Mat DrawLineOverlay(const cv::Mat& image, const ViewLines& lines,
@@ -41,6 +81,15 @@ cv::Mat DrawLineOverlay(const cv::Mat& image, const ViewLines& lines,
   cv::Mat overlay;
   // Dimmed so that the colours stand out.
   cv::cvtColor(gray / 2 + 40, overlay, cv::COLOR_GRAY2BGR);
+
+  for (const SegmentOutcome& outcome : lines.outcomes) {
+    if (outcome.Lifted()) continue;
+    cv::line(overlay, ToCv(outcome.segment.start), ToCv(outcome.segment.end),
+             SegmentRejectionColor(outcome), 1, cv::LINE_AA);
+  }
+  if (!lines.outcomes.empty()) {
+    DrawLegend(&overlay);
+  }
 
   std::unordered_map<int, size_t> segment_of_point;
   for (size_t s = 0; s < lines.segments.size(); ++s) {
@@ -72,6 +121,32 @@ cv::Mat DrawLineOverlay(const cv::Mat& image, const ViewLines& lines,
     cv::circle(overlay, end, 4, color, 1, cv::LINE_AA);
   }
   return overlay;
+}
+
+Json LineOutcomesToJson(const std::string& image_name,
+                        const ViewLines& lines) {
+  Json json;
+  json["image_name"] = image_name;
+  json["num_lsd_segments"] = lines.num_lsd_segments;
+  json["num_segments"] = lines.segments.size();
+  json["range_noise_m"] = lines.range_noise_m;
+  Json segments = Json::array();
+  for (const SegmentOutcome& outcome : lines.outcomes) {
+    Json segment;
+    segment["start"] = PixelToJson(outcome.segment.start);
+    segment["end"] = PixelToJson(outcome.segment.end);
+    segment["edge_result"] = LiftResultName(outcome.edge_result);
+    segment["plane_result"] = PlaneLiftResultName(outcome.plane_result);
+    if (outcome.Lifted()) {
+      segment["lifted_start"] = PixelToJson(outcome.lifted2D.start);
+      segment["lifted_end"] = PixelToJson(outcome.lifted2D.end);
+      segment["start3D_in_cam"] = VectorToJson(outcome.start3D_in_cam);
+      segment["end3D_in_cam"] = VectorToJson(outcome.end3D_in_cam);
+    }
+    segments.push_back(std::move(segment));
+  }
+  json["segments"] = std::move(segments);
+  return json;
 }
 
 void WriteLineOverlay(const std::string& path, const cv::Mat& overlay) {

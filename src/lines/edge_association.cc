@@ -372,7 +372,8 @@ std::vector<ViewLineSegment> LiftSegments(
     const ProjectedScan& projected, const std::vector<int>& edge_point_idxs,
     const EdgeAssociationOptions& options, std::vector<int>* counts,
     const RingNeighbors* ring_neighbors,
-    std::vector<LineSegment2D>* not_lifted) {
+    std::vector<LineSegment2D>* not_lifted,
+    std::vector<LiftResult>* results) {
   PixelGrid edge_grid(static_cast<int>(camera.width),
                       static_cast<int>(camera.height), 16);
   for (const int idx : edge_point_idxs) {
@@ -383,6 +384,10 @@ std::vector<ViewLineSegment> LiftSegments(
   if (counts != nullptr) {
     counts->assign(static_cast<int>(LiftResult::kTexture) + 1, 0);
   }
+  if (results != nullptr) {
+    results->clear();
+    results->reserve(segments.size());
+  }
   std::vector<ViewLineSegment> lifted_segments;
   for (const LineSegment2D& segment : segments) {
     ViewLineSegment lifted;
@@ -392,6 +397,9 @@ std::vector<ViewLineSegment> LiftSegments(
     if (counts != nullptr) {
       ++(*counts)[static_cast<int>(result)];
     }
+    if (results != nullptr) {
+      results->push_back(result);
+    }
     if (result == LiftResult::kLifted) {
       lifted_segments.push_back(std::move(lifted));
     } else if (not_lifted != nullptr) {
@@ -399,6 +407,26 @@ std::vector<ViewLineSegment> LiftSegments(
     }
   }
   return lifted_segments;
+}
+
+const char* LiftResultName(const LiftResult result) {
+  switch (result) {
+    case LiftResult::kLifted:
+      return "lifted";
+    case LiftResult::kTooFewPoints:
+      return "too_few_points";
+    case LiftResult::kRansacFailed:
+      return "ransac_failed";
+    case LiftResult::kLowCoverage:
+      return "low_coverage";
+    case LiftResult::kReprojection:
+      return "reprojection";
+    case LiftResult::kBackProjection:
+      return "back_projection";
+    case LiftResult::kTexture:
+      return "texture";
+  }
+  return "unknown";
 }
 
 }  // namespace colmap_lidar

@@ -108,12 +108,18 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
 
 // Lifts every segment; returns the lifted ones in input order. counts, when
 // given, receives the number of segments per LiftResult (indexed by the
-// enum value); not_lifted, when given, the segments that were not lifted.
+// enum value); not_lifted, when given, the segments that were not lifted;
+// results, when given, the outcome of every segment (same order as
+// segments).
 std::vector<ViewLineSegment> LiftSegments(
     const std::vector<LineSegment2D>& segments, const Camera& camera,
     const ProjectedScan& projected, const std::vector<int>& edge_point_idxs,
     const EdgeAssociationOptions& options, std::vector<int>* counts = nullptr,
     const RingNeighbors* ring_neighbors = nullptr,
-    std::vector<LineSegment2D>* not_lifted = nullptr);
+    std::vector<LineSegment2D>* not_lifted = nullptr,
+    std::vector<LiftResult>* results = nullptr);
+
+// A short name of the outcome ("lifted", "too_few_points", ...).
+const char* LiftResultName(LiftResult result);
 
 }  // namespace colmap_lidar

@@ -83,11 +83,23 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
   }
   result.timings.projection_ms = timer.Lap();
 
-  std::vector<LineSegment2D> not_lifted;
+  std::vector<LiftResult> edge_results;
   std::vector<ViewLineSegment> lifted =
       LiftSegments(segments, camera, projected, result.visible_edge_point_idxs,
                    options.association, &result.lift_result_counts,
-                   &ring_neighbors, &not_lifted);
+                   &ring_neighbors, nullptr, &edge_results);
+  result.outcomes.resize(segments.size());
+  for (size_t i = 0, k = 0; i < segments.size(); ++i) {
+    SegmentOutcome& outcome = result.outcomes[i];
+    outcome.segment = segments[i];
+    outcome.edge_result = edge_results[i];
+    if (outcome.edge_result == LiftResult::kLifted) {
+      outcome.lifted2D = lifted[k].segment2D;
+      outcome.start3D_in_cam = lifted[k].start3D_in_cam;
+      outcome.end3D_in_cam = lifted[k].end3D_in_cam;
+      ++k;
+    }
+  }
   result.timings.association_ms = timer.Lap();
 
   if (options.planes.enabled) {
@@ -96,23 +108,30 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
       result.range_noise_m =
           EstimateRangeNoise({scan}, RangeNoiseOptions()).sigma_m;
     }
-    for (const LineSegment2D& segment : not_lifted) {
+    for (SegmentOutcome& outcome : result.outcomes) {
+      if (outcome.edge_result == LiftResult::kLifted) continue;
       ViewLineSegment plane_lifted;
-      const PlaneLiftResult outcome = LiftSegmentByPlanes(
-          segment, camera, projected, options.planes, result.range_noise_m,
-          options.association.max_reprojection_angle_deg,
+      outcome.plane_result = LiftSegmentByPlanes(
+          outcome.segment, camera, projected, options.planes,
+          result.range_noise_m, options.association.max_reprojection_angle_deg,
           options.association.max_reprojection_distance_px,
           options.association.min_ray_line_angle_deg, &plane_lifted);
-      if (outcome == PlaneLiftResult::kCrease ||
-          outcome == PlaneLiftResult::kOcclusion) {
-        if (plane_lifted.start3D_in_cam.norm() <=
-                options.association.max_endpoint_range &&
-            plane_lifted.end3D_in_cam.norm() <=
-                options.association.max_endpoint_range) {
-          lifted.push_back(std::move(plane_lifted));
-          ++result.num_plane_lifted_segments;
-        }
+      if (outcome.plane_result != PlaneLiftResult::kCrease &&
+          outcome.plane_result != PlaneLiftResult::kOcclusion) {
+        continue;
       }
+      if (plane_lifted.start3D_in_cam.norm() >
+              options.association.max_endpoint_range ||
+          plane_lifted.end3D_in_cam.norm() >
+              options.association.max_endpoint_range) {
+        outcome.plane_result = PlaneLiftResult::kOutOfRange;
+        continue;
+      }
+      outcome.lifted2D = plane_lifted.segment2D;
+      outcome.start3D_in_cam = plane_lifted.start3D_in_cam;
+      outcome.end3D_in_cam = plane_lifted.end3D_in_cam;
+      lifted.push_back(std::move(plane_lifted));
+      ++result.num_plane_lifted_segments;
     }
   }
   result.num_lifted_segments = static_cast<int>(lifted.size());

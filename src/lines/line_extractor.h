@@ -51,6 +51,25 @@ struct LineExtractionTimings {
   }
 };
 
+// What became of one LSD segment, before the fusion of duplicates (the
+// debug overlay and lifting report of --debug_path).
+struct SegmentOutcome {
+  LineSegment2D segment;
+  LiftResult edge_result = LiftResult::kTooFewPoints;
+  PlaneLiftResult plane_result = PlaneLiftResult::kNotTried;
+  // When lifted (by edge points or planes): the 2D segment as clipped to
+  // its support and its 3D endpoints, camera frame.
+  LineSegment2D lifted2D;
+  Eigen::Vector3d start3D_in_cam = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end3D_in_cam = Eigen::Vector3d::Zero();
+
+  bool Lifted() const {
+    return edge_result == LiftResult::kLifted ||
+           plane_result == PlaneLiftResult::kCrease ||
+           plane_result == PlaneLiftResult::kOcclusion;
+  }
+};
+
 struct ViewLines {
   // Lifted, fused segments with descriptors, longest 2D segment first.
   std::vector<ViewLineSegment> segments;
@@ -62,6 +81,8 @@ struct ViewLines {
   std::vector<int> lift_result_counts;
   // Of those, lifted by the surfaces on their sides (plane_lifting.h).
   int num_plane_lifted_segments = 0;
+  // Every LSD segment (after the minimum length), in detection order.
+  std::vector<SegmentOutcome> outcomes;
   // The range noise sigma the plane lifting used, metres.
   double range_noise_m = 0.0;
   // Edge points of the scan and those the camera sees (for the overlay:

@@ -36,6 +36,20 @@ TEST(LineExtractor, SyntheticViewEndToEnd) {
     }
     EXPECT_NE(segment.descriptor, LbdDescriptor{});
   }
+  // One outcome per LSD segment; the lifted ones are those counted before
+  // fusion, each with its 3D endpoints on the rays of its clipped 2D ends.
+  ASSERT_EQ(static_cast<int>(lines.outcomes.size()), lines.num_lsd_segments);
+  int num_lifted = 0;
+  for (const SegmentOutcome& outcome : lines.outcomes) {
+    EXPECT_EQ(outcome.plane_result, PlaneLiftResult::kNotTried);
+    if (!outcome.Lifted()) continue;
+    ++num_lifted;
+    EXPECT_LT((view.camera.ImgFromCam(outcome.start3D_in_cam) -
+               outcome.lifted2D.start)
+                  .norm(),
+              1e-3);
+  }
+  EXPECT_EQ(num_lifted, lines.num_lifted_segments);
   // Longest first.
   for (size_t i = 1; i < lines.segments.size(); ++i) {
     EXPECT_GE(lines.segments[i - 1].segment2D.Length(),

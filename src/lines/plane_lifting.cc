@@ -138,6 +138,64 @@ bool FitSidePlane(const SideBand& band, double inlier_distance,
   return num_kept >= min_points;
 }
 
+// Whether the LIDAR points within `width` pixels of the segment agree that
+// the near plane ends there: on the near side they lie on the near plane
+// (or in front of it), on the far side behind it by more than min_step_m;
+// at most max_violations of the points that take a side may disagree, and
+// each side needs one point that agrees (an empty far side is open space,
+// decided by the caller). candidates: (distance, index) per side, sorted.
+// *near_points receives the near side's points that agree, with their
+// distances from the segment (pixels), nearest first.
+bool LocalStepAtSegment(
+    const std::array<std::vector<std::pair<double, int>>, 2>& candidates,
+    const ProjectedScan& projected, const Plane& near_plane, int near_side,
+    double width, double inlier_distance, double min_step_m,
+    double min_ray_angle_rad, double max_violations,
+    std::vector<std::pair<double, Eigen::Vector3d>>* near_points) {
+  near_points->clear();
+  int num_agree[2] = {0, 0};
+  int num_disagree[2] = {0, 0};
+  for (int s = 0; s < 2; ++s) {
+    for (const auto& [distance, idx] : candidates[s]) {
+      if (distance > width) break;
+      const Eigen::Vector3d& point = projected.points_in_cam[idx];
+      double depth = 0.0;
+      // Signed: > 0 when the point lies behind the near plane.
+      const double behind =
+          near_plane.DepthAlong(point / point.z(), min_ray_angle_rad, &depth)
+              ? point.z() - depth
+              : 1e9;
+      const bool on_plane = near_plane.Distance(point) <= inlier_distance;
+      if (s == near_side) {
+        if (behind > min_step_m) {
+          ++num_disagree[s];
+        } else if (on_plane || behind < 0.0) {
+          ++num_agree[s];
+          near_points->emplace_back(distance, point);
+        }
+      } else {
+        if (on_plane) {
+          ++num_disagree[s];
+        } else if (behind > min_step_m) {
+          ++num_agree[s];
+        }
+      }
+    }
+  }
+  for (int s = 0; s < 2; ++s) {
+    const int total = num_agree[s] + num_disagree[s];
+    if (total == 0) {
+      if (s == near_side) return false;
+      continue;  // Open space on the far side.
+    }
+    if (num_agree[s] == 0 ||
+        static_cast<double>(num_disagree[s]) > max_violations * total) {
+      return false;
+    }
+  }
+  return true;
+}
+
 Eigen::Vector3d Ray(const Camera& camera, const Eigen::Vector2d& pixel) {
   return camera.CamFromImg(pixel).homogeneous();
 }
@@ -172,6 +230,12 @@ bool PlaneLiftingOptions::Check() const {
   }
   if (!(min_crease_angle_deg > 0.0 && min_crease_angle_deg <= 90.0)) {
     LOG(ERROR) << "LineExtraction.plane_min_crease_angle_deg must be in (0, 90]";
+    return false;
+  }
+  if (!(boundary_band_fraction > 0.0 && boundary_band_fraction <= 1.0) ||
+      !(max_boundary_violations >= 0.0 && max_boundary_violations < 1.0)) {
+    LOG(ERROR) << "LineExtraction.plane_boundary_band_fraction must be in "
+                  "(0, 1] and plane_max_boundary_violations in [0, 1)";
     return false;
   }
   if (!(min_coverage >= 0.0 && min_coverage <= 1.0)) {
@@ -272,6 +336,8 @@ PlaneLiftResult LiftSegmentByPlanes(const LineSegment2D& segment,
 
   // 3. What the sides make of the segment.
   int near_side = -1;  // an occluding / step edge on this side's plane
+  // The cut with the near plane is scaled by this (snap_to_near_points).
+  double near_depth_scale = 1.0;
   bool crease = false;
   double lo = 0.0;
   double hi = length;
@@ -390,6 +456,44 @@ PlaneLiftResult LiftSegmentByPlanes(const LineSegment2D& segment,
     if (!far.points.empty() && num_on_near_plane * 5 > static_cast<int>(far.points.size())) {
       return PlaneLiftResult::kTexture;
     }
+    // The step lies at the segment, not a few pixels beside it: next to the
+    // segment (within boundary_band_fraction of max_band_px, past the gap),
+    // the near plane must not continue on the far side and the far surface
+    // must not show on the near side. Without this test a brick joint or a
+    // shadow line a few pixels from a window recess's lip was lifted onto
+    // the wall as if it were the lip (street_bent: 167 of 228 occluding
+    // edges more than 5 cm from any crease).
+    std::vector<std::pair<double, Eigen::Vector3d>> near_points;
+    if (!LocalStepAtSegment(candidates, projected, sides[near_side].plane,
+                            near_side, options.boundary_band_fraction *
+                                           max_band_px,
+                            inlier_distance, min_step_m, min_ray_angle_rad,
+                            options.max_boundary_violations, &near_points)) {
+      return PlaneLiftResult::kBoundary;
+    }
+    // The edge lies where the near surface meets the step, which is not
+    // always on the band's plane: a window frame 10 cm proud of an oblique
+    // wall is too narrow to hold a plane of its own, and the wall's plane
+    // put the cut 10-20 cm behind it (street_bent). The near side's points
+    // right next to the segment (within twice the band gap, the LIDAR's
+    // last returns before the step) set the depth: the median ratio of
+    // their depths to the plane's along their rays scales the cut.
+    if (options.snap_to_near_points) {
+      std::vector<double> ratios;
+      for (const auto& [distance, point] : near_points) {
+        if (distance > 2.0 * std::max(options.band_gap_px, 1.0)) break;
+        double depth = 0.0;
+        if (sides[near_side].plane.DepthAlong(point / point.z(),
+                                              min_ray_angle_rad, &depth)) {
+          ratios.push_back(point.z() / depth);
+        }
+      }
+      if (ratios.size() >= 3) {
+        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2,
+                         ratios.end());
+        near_depth_scale = ratios[ratios.size() / 2];
+      }
+    }
   }
   if (hi - lo < options.min_coverage * length) {
     return PlaneLiftResult::kLowCoverage;
@@ -448,7 +552,7 @@ PlaneLiftResult LiftSegmentByPlanes(const LineSegment2D& segment,
       if (!plane.DepthAlong(ray, min_ray_angle_rad, &depth)) {
         return PlaneLiftResult::kBackProjection;
       }
-      *point = depth * ray;
+      *point = near_depth_scale * depth * ray;
     }
   }
   if ((result.end3D_in_cam - result.start3D_in_cam).norm() < 1e-3) {
@@ -456,6 +560,32 @@ PlaneLiftResult LiftSegmentByPlanes(const LineSegment2D& segment,
   }
   *lifted = std::move(result);
   return crease ? PlaneLiftResult::kCrease : PlaneLiftResult::kOcclusion;
+}
+
+const char* PlaneLiftResultName(const PlaneLiftResult result) {
+  switch (result) {
+    case PlaneLiftResult::kCrease:
+      return "crease";
+    case PlaneLiftResult::kOcclusion:
+      return "occlusion";
+    case PlaneLiftResult::kNoPlanes:
+      return "no_planes";
+    case PlaneLiftResult::kTexture:
+      return "texture";
+    case PlaneLiftResult::kReprojection:
+      return "reprojection";
+    case PlaneLiftResult::kLowCoverage:
+      return "low_coverage";
+    case PlaneLiftResult::kBackProjection:
+      return "back_projection";
+    case PlaneLiftResult::kBoundary:
+      return "boundary";
+    case PlaneLiftResult::kOutOfRange:
+      return "out_of_range";
+    case PlaneLiftResult::kNotTried:
+      return "not_tried";
+  }
+  return "unknown";
 }
 
 }  // namespace colmap_lidar

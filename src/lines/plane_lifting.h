@@ -19,8 +19,10 @@
 //     the planes are parallel but their depths along the segment's rays
 //     differ by more than the step threshold: the nearer plane's boundary
 //     (an occluding or step edge, e.g. a protruding window frame), the
-//     3D points are the segment's rays cut with that plane; parallel at the
-//     same depth: a texture line on one surface, rejected;
+//     3D points are the segment's rays cut with that plane (scaled to the
+//     depth of the near points right next to the segment), when those
+//     points agree that the step is there; parallel at the same depth: a
+//     texture line on one surface, rejected;
 //  4. as for edge points, the 2D segment is clipped to the stretch both
 //     bands support (the near band alone for an occluding edge) and the 3D
 //     endpoints are its endpoints back-projected onto the 3D line.
@@ -67,13 +69,28 @@ struct PlaneLiftingOptions {
   double min_step_sigmas = 3.0;
   // The supported stretch must cover this fraction of the segment, [0, 1].
   double min_coverage = 0.3;
-  // Keep occluding / step edges (the nearer plane's boundary). Off: on the
-  // bent street (32 rings, 640x480, 20 frames, ground-truth poses) they
-  // tripled the segments but only about a quarter of them lay within 5 cm
-  // of a true crease, while the creases alone kept the precision of the
-  // edge-point segments (69.6 vs 68.2 % within 5 cm, 247 vs 223 segments;
-  // docs/benchmarks/lines.md).
+  // Keep occluding / step edges (the nearer plane's boundary). Off: with
+  // the boundary test and the snap below they keep the edge points'
+  // precision on the 64-ring quad (89.0 vs 90.6 % of all segments within
+  // 5 cm of a crease, recall 48.6 vs 32.5 %) but cost 1 point on the
+  // 32-ring bent street and 18 on the 16-ring corridor
+  // (docs/benchmarks/lines.md, fourth round).
   bool keep_occlusions = false;
+  // An occluding / step edge is kept only when the LIDAR points within this
+  // fraction of the band's reach (max_band_fraction) agree that the step is
+  // at the segment: on its near side they lie on the near plane, on its far
+  // side behind it (0.25: 12 px at 640x480, 22 at 1280x720).
+  double boundary_band_fraction = 0.25;
+  // ... with at most this fraction of the points of a side disagreeing,
+  // [0, 1). 0: the share of occluding edges within 5 cm of a true crease
+  // rose from 18 % (no test) to 46 % on street_bent, 72 -> 89 % of all
+  // segments on the quad; 0.1 and 0.2 kept more of the wrong ones
+  // (docs/benchmarks/lines.md).
+  double max_boundary_violations = 0.0;
+  // Place an occluding edge at the depth of the near side's points within
+  // twice band_gap_px of it (the median ratio of their depths to the near
+  // plane's) rather than on the plane, which may be a surface behind them.
+  bool snap_to_near_points = true;
 
   bool Check() const;
 };
@@ -86,7 +103,13 @@ enum class PlaneLiftResult {
   kReprojection,  // the planes' intersection does not project onto the segment
   kLowCoverage,
   kBackProjection,
+  kBoundary,      // a step, but not at the segment (the points next to it)
+  kOutOfRange,    // lifted, but an endpoint beyond max_endpoint_range
+  kNotTried,      // plane lifting off, or the edge points lifted it
 };
+
+// A short name of the outcome ("crease", "no_planes", ...).
+const char* PlaneLiftResultName(PlaneLiftResult result);
 
 // Lifts one segment; on kCrease / kOcclusion *lifted has the clipped 2D
 // segment and its 3D endpoints (no inliers, no descriptor). range_noise_m

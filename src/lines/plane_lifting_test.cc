@@ -19,16 +19,13 @@ struct Outcome {
   std::vector<PlaneLiftResult> results;
   // "crease 3, occlusion 1, ..." for failure messages.
   std::string Counts() const {
-    const char* names[] = {"crease",  "occlusion",    "no planes",
-                           "texture", "reprojection", "low coverage",
-                           "back-projection"};
     std::string text;
-    for (int r = 0; r <= static_cast<int>(PlaneLiftResult::kBackProjection);
-         ++r) {
-      text += std::string(names[r]) + " " +
-              std::to_string(std::count(results.begin(), results.end(),
-                                        static_cast<PlaneLiftResult>(r))) +
-              (r < 6 ? ", " : "");
+    for (int r = 0; r <= static_cast<int>(PlaneLiftResult::kNotTried); ++r) {
+      const auto result = static_cast<PlaneLiftResult>(r);
+      text += std::string(r > 0 ? ", " : "") + PlaneLiftResultName(result) +
+              " " +
+              std::to_string(
+                  std::count(results.begin(), results.end(), result));
     }
     return text;
   }
@@ -178,6 +175,55 @@ TEST(PlaneLifting, NoiseEstimatedFromTheScanFindsTheEdges) {
   EXPECT_GE(outcome.lifted.size(), 6u) << outcome.Counts();
 }
 
+// A wall at depth 5 m left of the optical axis (x < 0) in front of a wall
+// at 6 m on its right: one step edge, straight down the image's centre
+// column. Points on a regular grid of directions (0.2 deg x 1 deg), camera
+// frame = LIDAR frame, no noise.
+ProjectedScan StepScan(const Camera& camera) {
+  LidarScan scan;
+  for (double azimuth = -20.0; azimuth <= 20.0; azimuth += 0.2) {
+    for (double elevation = -15.0; elevation <= 15.0; elevation += 1.0) {
+      const double a = azimuth * M_PI / 180.0;
+      const double e = elevation * M_PI / 180.0;
+      const Eigen::Vector3d direction(std::sin(a) * std::cos(e), -std::sin(e),
+                                      std::cos(a) * std::cos(e));
+      const double depth = direction.x() < 0.0 ? 5.0 : 6.0;
+      scan.points.push_back(
+          (direction * depth / direction.z()).cast<float>());
+    }
+  }
+  return ProjectScan(scan, camera, Rigid3d(), ScanProjectionOptions());
+}
+
+TEST(PlaneLifting, OccludingEdgeOnlyWhereTheStepIs) {
+  const Camera camera = Camera::FromModelName("PINHOLE", 640, 480,
+                                              {250.0, 250.0, 320.0, 240.0});
+  const ProjectedScan projected = StepScan(camera);
+  PlaneLiftingOptions options = WithOcclusions();
+  options.max_band_fraction = 0.1;  // 80 px; the narrowest band is 10 px.
+  auto lift = [&](double column, ViewLineSegment* lifted) {
+    LineSegment2D segment;
+    segment.start = Eigen::Vector2d(column, 170.0);
+    segment.end = Eigen::Vector2d(column, 310.0);
+    return LiftSegmentByPlanes(segment, camera, projected, options,
+                               /*range_noise_m=*/0.01, 3.0, 4.0, 5.0, lifted);
+  };
+  // At the step: the near wall's boundary, on the near wall.
+  ViewLineSegment lifted;
+  ASSERT_EQ(lift(320.0, &lifted), PlaneLiftResult::kOcclusion);
+  EXPECT_NEAR(lifted.start3D_in_cam.z(), 5.0, 0.01);
+  EXPECT_NEAR(lifted.end3D_in_cam.z(), 5.0, 0.01);
+  // A line on the far wall 3 px right of the step (6 cm at 5 m): its near
+  // band is mostly the near wall, and the two planes make a step, but the
+  // far wall's points between the step and the line show that the near
+  // wall ends before the line. Lifted, it would hang in the air 6 cm off
+  // the near wall's edge.
+  EXPECT_EQ(lift(323.0, &lifted), PlaneLiftResult::kBoundary);
+  // Farther out on either wall: one surface on both sides.
+  EXPECT_EQ(lift(340.0, &lifted), PlaneLiftResult::kTexture);
+  EXPECT_EQ(lift(300.0, &lifted), PlaneLiftResult::kTexture);
+}
+
 TEST(PlaneLifting, OptionsCheck) {
   EXPECT_TRUE(PlaneLiftingOptions().Check());
   PlaneLiftingOptions options;
@@ -191,6 +237,12 @@ TEST(PlaneLifting, OptionsCheck) {
   EXPECT_FALSE(options.Check());
   options = PlaneLiftingOptions();
   options.range_noise_m = -0.01;
+  EXPECT_FALSE(options.Check());
+  options = PlaneLiftingOptions();
+  options.boundary_band_fraction = 0.0;
+  EXPECT_FALSE(options.Check());
+  options = PlaneLiftingOptions();
+  options.max_boundary_violations = 1.0;
   EXPECT_FALSE(options.Check());
 }
 

@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
 #include "src/lidar/scan_io.h"
 #include "src/lines/debug_overlay.h"
@@ -160,11 +161,13 @@ WorkspaceLineExtractionSummary ExtractWorkspaceLines(
         if (!debug_path.empty()) {
           std::string file_name = job.image.name;
           std::replace(file_name.begin(), file_name.end(), '/', '_');
-          WriteLineOverlay(
+          const std::string stem =
               JoinPaths(debug_path,
-                        std::filesystem::path(file_name).stem().string() +
-                            ".png"),
-              DrawLineOverlay(image, lines, job.camera));
+                        std::filesystem::path(file_name).stem().string());
+          WriteLineOverlay(stem + ".png",
+                           DrawLineOverlay(image, lines, job.camera));
+          WriteJsonFile(stem + ".json",
+                        LineOutcomesToJson(job.image.name, lines));
         }
         std::lock_guard<std::mutex> lock(mutex);
         WriteLineSegments(&database, job.image.image_id, records);

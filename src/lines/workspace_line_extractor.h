@@ -36,8 +36,9 @@ LineSegmentRecord ToLineSegmentRecord(const ViewLineSegment& segment);
 // relative to its folder (or absolute). image_path: the image folder.
 // image_names: images to process (empty: all images that have a scan); a
 // name that is not in the database, or has no scan, throws. debug_path: when
-// not empty, a folder (created) that receives <image name>.png overlays
-// (slashes in names become '_'). Throws naming the file on I/O errors; the
+// not empty, a folder (created) that receives per image <stem>.png (the
+// overlay) and <stem>.json (every LSD segment and why it was or was not
+// lifted; debug_overlay.h), slashes in names becoming '_'. Throws naming the file on I/O errors; the
 // images finished before the error keep their rows.
 WorkspaceLineExtractionSummary ExtractWorkspaceLines(
     const std::string& database_path, const std::string& image_path,

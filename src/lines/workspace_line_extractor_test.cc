@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
+#include "colmap_ext/util/json.h"
 #include "colmap_ext/util/testing.h"
 #include "src/dataset/importer.h"
 #include "src/lidar/scan_io.h"
@@ -79,10 +80,32 @@ TEST_F(KittiWorkspaceTest, ThreeFramesGiveSaneSegments) {
                 0.01);
       EXPECT_GE(segment.num_inliers, 5u);
     }
-    EXPECT_TRUE(ExistsFile(JoinPaths(
-        debug_path,
-        std::filesystem::path(name).stem().string() + ".png")))
-        << name;
+    const std::string stem =
+        JoinPaths(debug_path, std::filesystem::path(name).stem().string());
+    EXPECT_TRUE(ExistsFile(stem + ".png")) << name;
+    // Every LSD segment with its outcome; the lifted ones (before fusion)
+    // at least as many as the stored ones, each with its 3D endpoints.
+    const Json outcomes = ReadJsonFile(stem + ".json");
+    EXPECT_EQ(outcomes["image_name"], name);
+    ASSERT_EQ(outcomes["segments"].size(),
+              outcomes["num_lsd_segments"].get<size_t>());
+    size_t num_lifted = 0;
+    for (const Json& segment : outcomes["segments"]) {
+      const std::string edge_result = segment["edge_result"];
+      const std::string plane_result = segment["plane_result"];
+      EXPECT_NE(edge_result, "unknown");
+      // Plane lifting is off by default: never tried.
+      EXPECT_EQ(plane_result, "not_tried");
+      if (edge_result == "lifted") {
+        ++num_lifted;
+        ASSERT_TRUE(segment.contains("start3D_in_cam"));
+        EXPECT_GT(segment["start3D_in_cam"][2].get<double>(), 0.0);
+        EXPECT_GT(segment["end3D_in_cam"][2].get<double>(), 0.0);
+      } else {
+        EXPECT_FALSE(segment.contains("start3D_in_cam"));
+      }
+    }
+    EXPECT_GE(num_lifted, outcomes["num_segments"].get<size_t>()) << name;
   }
   EXPECT_EQ(total, static_cast<size_t>(summary.num_segments));
 
