@@ -82,10 +82,10 @@ struct PlaneLiftingOptions {
   // side behind it (0.25: 12 px at 640x480, 22 at 1280x720).
   double boundary_band_fraction = 0.25;
   // ... with at most this fraction of the points of a side disagreeing,
-  // [0, 1). 0: the share of occluding edges within 5 cm of a true crease
-  // rose from 18 % (no test) to 46 % on street_bent, 72 -> 89 % of all
-  // segments on the quad; 0.1 and 0.2 kept more of the wrong ones
-  // (docs/benchmarks/lines.md).
+  // [0, 1). 0: with snap_to_near_points, the share of occluding edges
+  // within 5 cm of a true crease rose from 22 % (no test) to 62 % on
+  // street_bent, and that of all segments from 72 to 89 % on the quad; 0.1
+  // and 0.2 kept more of the wrong ones (docs/benchmarks/lines.md).
   double max_boundary_violations = 0.0;
   // Place an occluding edge at the depth of the near side's points within
   // twice band_gap_px of it (the median ratio of their depths to the near
