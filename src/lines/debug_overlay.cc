@@ -28,7 +28,7 @@ cv::Point ToCv(const Eigen::Vector2d& pixel) {
 }
 
 // The colour of an LSD segment that was not lifted, by the first reason
-// that stopped it: no LIDAR support at all (dark grey), a texture line or
+// that stopped it: no LIDAR support at all (black), a texture line or
 // the same surface on both sides (blue), a fit that did not agree with the
 // segment (orange), too little support along it (magenta).
 cv::Scalar SegmentRejectionColor(const SegmentOutcome& outcome) {
@@ -47,12 +47,12 @@ cv::Scalar SegmentRejectionColor(const SegmentOutcome& outcome) {
       outcome.edge_result == LiftResult::kLowCoverage ||
       outcome.plane_result == PlaneLiftResult::kLowCoverage;
   if (low_coverage) return cv::Scalar(200, 0, 200);
-  return cv::Scalar(90, 90, 90);
+  return cv::Scalar(0, 0, 0);
 }
 
 void DrawLegend(cv::Mat* overlay) {
   const std::pair<const char*, cv::Scalar> entries[] = {
-      {"no LIDAR support", cv::Scalar(90, 90, 90)},
+      {"no LIDAR support", cv::Scalar(0, 0, 0)},
       {"texture / one surface", cv::Scalar(255, 120, 0)},
       {"fit disagrees", cv::Scalar(0, 140, 255)},
       {"low coverage", cv::Scalar(200, 0, 200)}};
