@@ -31,10 +31,15 @@ cv::Point ToCv(const Eigen::Vector2d& pixel) {
 // that stopped it: no LIDAR support at all (black), a texture line or
 // the same surface on both sides (blue), a fit that did not agree with the
 // segment (orange), too little support along it (magenta).
+const cv::Scalar kNoSupportColor(0, 0, 0);
+const cv::Scalar kTextureColor(255, 120, 0);
+const cv::Scalar kDisagreeColor(0, 140, 255);
+const cv::Scalar kLowCoverageColor(200, 0, 200);
+
 cv::Scalar SegmentRejectionColor(const SegmentOutcome& outcome) {
   const bool texture = outcome.edge_result == LiftResult::kTexture ||
                        outcome.plane_result == PlaneLiftResult::kTexture;
-  if (texture) return cv::Scalar(255, 120, 0);
+  if (texture) return kTextureColor;
   const bool disagree =
       outcome.edge_result == LiftResult::kReprojection ||
       outcome.edge_result == LiftResult::kBackProjection ||
@@ -42,20 +47,20 @@ cv::Scalar SegmentRejectionColor(const SegmentOutcome& outcome) {
       outcome.plane_result == PlaneLiftResult::kReprojection ||
       outcome.plane_result == PlaneLiftResult::kBackProjection ||
       outcome.plane_result == PlaneLiftResult::kOutOfRange;
-  if (disagree) return cv::Scalar(0, 140, 255);
+  if (disagree) return kDisagreeColor;
   const bool low_coverage =
       outcome.edge_result == LiftResult::kLowCoverage ||
       outcome.plane_result == PlaneLiftResult::kLowCoverage;
-  if (low_coverage) return cv::Scalar(200, 0, 200);
-  return cv::Scalar(0, 0, 0);
+  if (low_coverage) return kLowCoverageColor;
+  return kNoSupportColor;
 }
 
 void DrawLegend(cv::Mat* overlay) {
   const std::pair<const char*, cv::Scalar> entries[] = {
-      {"no LIDAR support", cv::Scalar(0, 0, 0)},
-      {"texture / one surface", cv::Scalar(255, 120, 0)},
-      {"fit disagrees", cv::Scalar(0, 140, 255)},
-      {"low coverage", cv::Scalar(200, 0, 200)}};
+      {"no LIDAR support", kNoSupportColor},
+      {"texture / one surface", kTextureColor},
+      {"fit disagrees", kDisagreeColor},
+      {"low coverage", kLowCoverageColor}};
   int y = 14;
   for (const auto& [text, color] : entries) {
     cv::line(*overlay, cv::Point(6, y - 4), cv::Point(26, y - 4), color, 2);
@@ -64,8 +69,6 @@ void DrawLegend(cv::Mat* overlay) {
     y += 14;
   }
 }
-
-Json PixelToJson(const Eigen::Vector2d& pixel) { return VectorToJson(pixel); }
 
 }  // namespace
 
@@ -133,13 +136,13 @@ Json LineOutcomesToJson(const std::string& image_name,
   Json segments = Json::array();
   for (const SegmentOutcome& outcome : lines.outcomes) {
     Json segment;
-    segment["start"] = PixelToJson(outcome.segment.start);
-    segment["end"] = PixelToJson(outcome.segment.end);
+    segment["start"] = VectorToJson(outcome.segment.start);
+    segment["end"] = VectorToJson(outcome.segment.end);
     segment["edge_result"] = LiftResultName(outcome.edge_result);
     segment["plane_result"] = PlaneLiftResultName(outcome.plane_result);
     if (outcome.Lifted()) {
-      segment["lifted_start"] = PixelToJson(outcome.lifted2D.start);
-      segment["lifted_end"] = PixelToJson(outcome.lifted2D.end);
+      segment["lifted_start"] = VectorToJson(outcome.lifted2D.start);
+      segment["lifted_end"] = VectorToJson(outcome.lifted2D.end);
       segment["start3D_in_cam"] = VectorToJson(outcome.start3D_in_cam);
       segment["end3D_in_cam"] = VectorToJson(outcome.end3D_in_cam);
     }
