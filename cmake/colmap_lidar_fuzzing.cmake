@@ -9,8 +9,12 @@ endif()
 # Libraries get coverage instrumentation but no libFuzzer main; the fuzz
 # targets add -fsanitize=fuzzer at link time (tests/fuzz/CMakeLists.txt).
 # UBSan findings abort, so that libFuzzer records them as crashes.
+# Line tables are all that the crash reports print; full debug information
+# (-g) costs compile and link time (scripts/fuzz.sh builds RelWithDebInfo
+# with -gline-tables-only).
 add_compile_options(-fsanitize=fuzzer-no-link,address,undefined
-                    -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g)
+                    -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+                    -gline-tables-only)
 add_link_options(-fsanitize=address,undefined)
 # The fuzz targets are registered as CTest tests fuzz/<target>.
 enable_testing()

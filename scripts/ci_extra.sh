@@ -5,7 +5,7 @@
 #     every reader of outside data and what they stand on: all of colmap_ext
 #     (util, scene, model, database, mvs, runner), lidar/scan_io, dataset/*,
 #     eval/segment_io and exe/option_manager (scripts/test_sanitized.sh,
-#     gcc, build-asan). The whole suite under ASan does not fit CI's 90
+#     clang-14, build-asan). The whole suite under ASan does not fit CI's 90
 #     minutes next to the plain build and test run; run it locally with
 #     `bash scripts/test_sanitized.sh`.
 #  2. A short fuzz run of every fuzz target (scripts/fuzz.sh, clang-14,

@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config git ca-certificates
+  build-essential cmake ninja-build pkg-config git ca-certificates
   colmap sqlite3 python3 python3-numpy python3-matplotlib
   libeigen3-dev libceres-dev libgoogle-glog-dev libgflags-dev
   libopencv-dev libopencv-contrib-dev
