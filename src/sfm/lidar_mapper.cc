@@ -22,6 +22,26 @@
 #include "src/sfm/stock_colmap_steps.h"
 
 namespace colmap_lidar {
+namespace {
+
+// Names of the images that no 3D point's track observes, in image order.
+std::vector<std::string> ImagesWithoutPoints(const Reconstruction& model) {
+  std::unordered_map<image_t, int> num_observations;
+  for (const auto& [point3D_id, point3D] : model.points3D) {
+    for (const TrackElement& element : point3D.track) {
+      ++num_observations[element.image_id];
+    }
+  }
+  std::vector<std::string> names;
+  for (const Image& image : model.images) {
+    if (num_observations.count(image.image_id) == 0) {
+      names.push_back(image.name);
+    }
+  }
+  return names;
+}
+
+}  // namespace
 
 bool LidarMapperOptions::Check() const {
 #define LIDAR_MAPPER_CHECK(cond, name)                              \
@@ -112,6 +132,13 @@ std::string LidarMapperSummary::Format() const {
         << " (final), " << num_lidar_edge_violated_frames
         << " frames violate an edge"
         << (kept_lidar_graph_poses ? "; graph poses kept" : "") << "\n";
+  }
+  if (!images_without_points.empty()) {
+    out << "  images that observe no 3D point (posed by the LIDAR graph and"
+           " their priors alone): "
+        << images_without_points.size() << ":";
+    for (const std::string& name : images_without_points) out << " " << name;
+    out << "\n";
   }
   out << "  output " << output_path << ": " << num_points << " points, "
       << num_lines << " lines3D; segments " << lines_ply_path << "\n";
@@ -310,6 +337,20 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
   WriteLines3DPly(paths.lines_ply_path, model);
   summary.num_points = static_cast<int>(model.points3D.size());
   summary.num_lines = static_cast<int>(model.lines3D.size());
+  summary.images_without_points = ImagesWithoutPoints(model);
+  if (!summary.images_without_points.empty()) {
+    std::string names;
+    for (const std::string& name : summary.images_without_points) {
+      names += " " + name;
+    }
+    LOG(WARNING) << "lidar_mapper: " << summary.images_without_points.size()
+                 << " of " << model.images.size()
+                 << " images observe no 3D point; their poses come from "
+                 << (init.lidar_edges.empty()
+                         ? "their priors alone"
+                         : "the LIDAR graph and their priors alone")
+                 << ":" << names;
+  }
   summary.total_seconds = SecondsSince(start_time);
   summary.total_cpu_seconds = ProcessCpuSeconds() - start_cpu;
   return summary;

@@ -270,6 +270,11 @@ struct LidarMapperSummary {
   double lidar_edge_error_final = -1.0;
   int num_lidar_edge_violated_frames = 0;
   bool kept_lidar_graph_poses = false;
+  // Images of the output that observe no 3D point (no features, or none
+  // matched: night, blur, a blank wall): their poses come from the LIDAR
+  // edges and their priors alone (init_method lidar_graph), or from the
+  // prior alone without an edge. Logged with a warning.
+  std::vector<std::string> images_without_points;
 
   std::string Format() const;
 };
