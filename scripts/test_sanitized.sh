@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the test suite with AddressSanitizer + UndefinedBehaviorSanitizer in
-# build-asan (-O1 -g, benchmarks off) and runs CTest without the heavy
+# build-asan (-O1 -g1, benchmarks off) and runs CTest without the heavy
 # pipeline/automatic_reconstructor test. Any sanitizer report fails its test
 # (UBSan halts on the first error; ASan always does). Prints the build and
 # test wall times and the tests with sanitizer reports.
@@ -24,11 +24,9 @@ if [ -z "${CC:-}" ] && [ -z "${CXX:-}" ] && command -v clang++-14 >/dev/null; th
 fi
 # float-cast-overflow is part of clang's -fsanitize=undefined but not gcc's.
 sanitize="-fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer"
-# Line tables are all that the sanitizers' stack traces print; full debug
-# information costs compile and link time.
-debug=-g1
-if [[ "${CXX:-}" == *clang* ]]; then debug=-gline-tables-only; fi
-flags="-O1 $debug -DNDEBUG $sanitize"
+# -g1: line tables (clang: -gline-tables-only), all that the sanitizers'
+# stack traces print; full debug information costs compile and link time.
+flags="-O1 -g1 -DNDEBUG $sanitize"
 
 # Ninja, where installed, for a new build directory: CMake's Makefiles build
 # the targets named by --target one after another (.NOTPARALLEL), which left
