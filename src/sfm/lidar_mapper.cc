@@ -3,6 +3,7 @@
 #include <chrono>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "colmap_ext/database/database.h"
@@ -26,15 +27,15 @@ namespace {
 
 // Names of the images that no 3D point's track observes, in image order.
 std::vector<std::string> ImagesWithoutPoints(const Reconstruction& model) {
-  std::unordered_map<image_t, int> num_observations;
+  std::unordered_set<image_t> observing;
   for (const auto& [point3D_id, point3D] : model.points3D) {
     for (const TrackElement& element : point3D.track) {
-      ++num_observations[element.image_id];
+      observing.insert(element.image_id);
     }
   }
   std::vector<std::string> names;
   for (const Image& image : model.images) {
-    if (num_observations.count(image.image_id) == 0) {
+    if (observing.count(image.image_id) == 0) {
       names.push_back(image.name);
     }
   }
@@ -134,9 +135,10 @@ std::string LidarMapperSummary::Format() const {
         << (kept_lidar_graph_poses ? "; graph poses kept" : "") << "\n";
   }
   if (!images_without_points.empty()) {
-    out << "  images that observe no 3D point (posed by the LIDAR graph and"
-           " their priors alone): "
-        << images_without_points.size() << ":";
+    out << "  images that observe no 3D point (posed by "
+        << (num_lidar_edges > 0 ? "the LIDAR graph and their priors"
+                                : "their priors")
+        << " alone): " << images_without_points.size() << ":";
     for (const std::string& name : images_without_points) out << " " << name;
     out << "\n";
   }
