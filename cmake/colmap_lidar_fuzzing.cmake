@@ -10,8 +10,8 @@ endif()
 # targets add -fsanitize=fuzzer at link time (tests/fuzz/CMakeLists.txt).
 # UBSan findings abort, so that libFuzzer records them as crashes.
 # Line tables are all that the crash reports print; full debug information
-# (-g) costs compile and link time (scripts/fuzz.sh builds RelWithDebInfo
-# with -gline-tables-only).
+# costs compile and link time. These options follow the build type's flags
+# on the command line, so -gline-tables-only overrides RelWithDebInfo's -g.
 add_compile_options(-fsanitize=fuzzer-no-link,address,undefined
                     -fno-sanitize-recover=undefined -fno-omit-frame-pointer
                     -gline-tables-only)

@@ -45,10 +45,7 @@ if [ ! -f "$build_dir/CMakeCache.txt" ]; then
   generator=()
   if command -v ninja >/dev/null; then generator=(-G Ninja); fi
   CC=clang-14 CXX=clang++-14 flock "$lock" cmake "${generator[@]}" -S . -B "$build_dir" \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-    -DCOLMAP_LIDAR_BUILD_FUZZERS=ON \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCOLMAP_LIDAR_BUILD_FUZZERS=ON \
     -DCOLMAP_LIDAR_BUILD_TESTS=OFF -DCOLMAP_LIDAR_BUILD_BENCHMARKS=OFF \
     > "$build_dir/configure.log" 2>&1 || { cat "$build_dir/configure.log"; exit 1; }
 fi

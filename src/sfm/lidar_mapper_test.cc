@@ -38,6 +38,26 @@ double MeanPositionErrorNoAlignment(const Reconstruction& model,
       .position_stats_m.mean;
 }
 
+// Synthesizes `num_frames` frames over `path_fraction` of the quad walk at
+// 848 x 480 (no survey, no depth maps) into `dataset` and imports them into
+// `workspace`.
+void SynthesizeAndImportQuadWalk(int num_frames, double path_fraction,
+                                 const std::string& dataset,
+                                 const std::string& workspace) {
+  SynthesisOptions synthesis;
+  synthesis.num_frames = num_frames;
+  synthesis.path_fraction = path_fraction;
+  synthesis.image_width = 848;
+  synthesis.image_height = 480;
+  synthesis.supersampling = 1;
+  synthesis.survey_num_stations = 0;
+  synthesis.write_depth_maps = false;
+  synthesis.num_threads = 2;
+  SynthesizeDataset(synthesis, dataset);
+  ImportDataset(dataset, workspace, JoinPaths(workspace, "database.db"),
+                ImporterOptions());
+}
+
 // One small synthetic recording (quad, 30 frames, 848 x 480) imported once and
 // run through the whole pipeline once; the tests inspect the result.
 class LidarMapperTest : public ::testing::Test {
@@ -48,22 +68,11 @@ class LidarMapperTest : public ::testing::Test {
     root_ = new std::string(testing::CreateTestDir());
     dataset_ = new std::string(JoinPaths(*root_, "dataset"));
     workspace_ = new std::string(JoinPaths(*root_, "workspace"));
-    SynthesisOptions synthesis;
-    // A 40% stretch of the quad walk in kNumFrames frames, spaced like the
+    // A 16% stretch of the quad walk in kNumFrames frames, spaced like the
     // default 60-frame scene (0.8 m): stock mapper initialises reliably.
     // (Spread over the whole walk, 30 frames overlap so little that stock
     // mapper mostly fails to build a model of 10 images.)
-    synthesis.num_frames = kNumFrames;
-    synthesis.path_fraction = 0.16;
-    synthesis.image_width = 848;
-    synthesis.image_height = 480;
-    synthesis.supersampling = 1;
-    synthesis.survey_num_stations = 0;
-    synthesis.write_depth_maps = false;
-    synthesis.num_threads = 2;
-    SynthesizeDataset(synthesis, *dataset_);
-    ImportDataset(*dataset_, *workspace_,
-                  JoinPaths(*workspace_, "database.db"), ImporterOptions());
+    SynthesizeAndImportQuadWalk(kNumFrames, 0.16, *dataset_, *workspace_);
     LidarMapperOptions options;
     options.num_threads = 2;
     options.max_num_iterations = 3;
@@ -353,18 +362,7 @@ TEST(LidarMapperFeaturelessFrame, IsPosedByTheLidarGraph) {
   const std::string root = testing::CreateTestDir();
   const std::string dataset = JoinPaths(root, "dataset");
   const std::string workspace = JoinPaths(root, "workspace");
-  SynthesisOptions synthesis;
-  synthesis.num_frames = 10;
-  synthesis.path_fraction = 0.1;
-  synthesis.image_width = 848;
-  synthesis.image_height = 480;
-  synthesis.supersampling = 1;
-  synthesis.survey_num_stations = 0;
-  synthesis.write_depth_maps = false;
-  synthesis.num_threads = 2;
-  SynthesizeDataset(synthesis, dataset);
-  ImportDataset(dataset, workspace, JoinPaths(workspace, "database.db"),
-                ImporterOptions());
+  SynthesizeAndImportQuadWalk(10, 0.1, dataset, workspace);
   const std::string blank_path =
       JoinPaths(JoinPaths(workspace, "images"), kFeaturelessImage);
   const cv::Mat original = cv::imread(blank_path, cv::IMREAD_UNCHANGED);
