@@ -26,6 +26,19 @@ double ReadFiniteDouble(const YAML::Node& node, const std::string& path,
   return value;
 }
 
+// Reads node as an integer in [min_value, max_value]; throws naming the file
+// and the key. The range is checked on the double, so the conversion to int
+// is always defined (a fuzzer found 1.7e16 rings).
+int ReadBoundedInt(const YAML::Node& node, const std::string& path,
+                   const std::string& key, int min_value, int max_value) {
+  const double value = ReadFiniteDouble(node, path, key);
+  THROW_CHECK(value == std::floor(value) && value >= min_value &&
+                  value <= max_value,
+              path << ": '" << key << "' must be an integer in [" << min_value
+                   << ", " << max_value << "] (" << value << ")");
+  return static_cast<int>(value);
+}
+
 YAML::Node RequireKey(const YAML::Node& parent, const std::string& key,
                       const std::string& path, const std::string& full_key) {
   THROW_CHECK(parent.IsMap(), path << ": expected a mapping above '"
@@ -128,10 +141,11 @@ RigCalibration ReadCalibration(const std::string& path) {
     THROW_CHECK(lidar.IsMap(), path << ": 'lidar' must be a mapping");
     LidarDescription description;
     if (lidar["rings"]) {
-      description.rings = static_cast<int>(
-          ReadFiniteDouble(lidar["rings"], path, "lidar.rings"));
-      THROW_CHECK(description.rings >= 0,
-                  path << ": 'lidar.rings' must not be negative");
+      // 0 means "unknown"; real units have at most 128 rings, the bound
+      // leaves room for denser ones.
+      constexpr int kMaxRings = 4096;
+      description.rings =
+          ReadBoundedInt(lidar["rings"], path, "lidar.rings", 0, kMaxRings);
     }
     if (lidar["vertical_fov_deg"]) {
       const YAML::Node fov = lidar["vertical_fov_deg"];

@@ -97,6 +97,13 @@ TEST(Calibration, RejectsBadInput) {
   ExpectError(std::string(kDocExample).replace(text.find("[0, -1, 0, 0.00]"), 16,
                                                "[0, -2, 0, 0.00]"),
               "rigid");
+  // A ring count past int's range (found by fuzz_calibration), fractional
+  // or negative is named, never converted.
+  for (const char* rings : {"1.7e16", "63.5", "-1"}) {
+    ExpectError(std::string(kDocExample).replace(text.find("rings: 64"), 9,
+                                                 std::string("rings: ") + rings),
+                "lidar.rings");
+  }
   ExpectError("camera:\n  model: PINHOLE\n", "camera.width");
   ExpectError(std::string(kDocExample).substr(0, text.find("cam_from_lidar")),
               "cam_from_lidar");
