@@ -102,6 +102,10 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddOption(s + "best_views_fraction", &o->best_views_fraction,
                      "Cost = mean of the best ceil(fraction * n) views, "
                      "(0, 1].");
+  options->AddOption(s + "visible_sources_only", &o->visible_sources_only,
+                     "n of the cost and the views the geometric filter asks "
+                     "for count only the sources whose image contains the "
+                     "point (and the LIDAR).");
   options->AddOption(s + "lidar_prior_weight", &o->lidar_prior_weight,
                      "Soft LIDAR prior weight in the cost; 0: off.");
   options->AddOption(s + "lidar_prior_tolerance", &o->lidar_prior_tolerance,

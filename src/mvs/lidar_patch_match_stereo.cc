@@ -349,7 +349,8 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
           src_maps.push_back(src_map);
         }
       }
-      if (static_cast<int>(srcs.size()) < options.filter_min_num_consistent) {
+      if (!options.visible_sources_only &&
+          static_cast<int>(srcs.size()) < options.filter_min_num_consistent) {
         LOG(WARNING) << image.name << ": " << srcs.size() << " of "
                      << job.srcs.size()
                      << " source views have photometric maps, fewer than "

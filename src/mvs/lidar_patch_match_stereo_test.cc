@@ -197,6 +197,9 @@ TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
   const std::vector<std::vector<float>> gt = WriteWorkspace(path);
   LidarPatchMatchOptions options = QuickOptions(2);
   options.filter_min_num_consistent = kNumViews;
+  // Every source counts, seeing the pixel or not (else pixels seen by fewer
+  // sources would need fewer views, without the LIDAR).
+  options.visible_sources_only = false;
   const DenseWorkspace workspace(path);
   const auto count = [&](size_t* num_accurate) {
     const DepthMap depth = DepthMap::Read(
@@ -246,6 +249,53 @@ TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
           << r << " " << c;
     }
   }
+}
+
+// Sources that cannot see a pixel neither confirm nor refute it: counting
+// only the sources whose image holds the point keeps the pixels that fewer
+// sources see (the image sides of the outer views), and keeps them accurate.
+TEST(LidarPatchMatchStereo, OnlyVisibleSourcesCount) {
+  const std::string path = JoinPaths(testing::CreateTestDir(), "dense");
+  const std::vector<std::vector<float>> gt = WriteWorkspace(path);
+  const DenseWorkspace workspace(path);
+  // Valid and accurate (within 5 cm) pixels of the outer view v0.
+  const auto count = [&](size_t* num_accurate) {
+    const DepthMap depth = DepthMap::Read(
+        workspace.DepthMapPath("v0.png", DenseMapType::kGeometric));
+    size_t num_valid = 0;
+    *num_accurate = 0;
+    for (int r = 0; r < kHeight; ++r) {
+      for (int c = 0; c < kWidth; ++c) {
+        if (depth.IsValid(r, c)) {
+          ++num_valid;
+          *num_accurate +=
+              std::abs(depth.Get(r, c) - gt[0][r * kWidth + c]) < 0.05;
+        }
+      }
+    }
+    return num_valid;
+  };
+  LidarPatchMatchOptions options = QuickOptions(2);
+  // Every source must agree where it can see: the pixels of v0 that the
+  // farthest source v4 does not see need the visible-sources count.
+  options.filter_min_num_consistent = kNumViews - 1;
+  options.filter_lidar_as_view = false;
+  options.visible_sources_only = false;
+  RunLidarPatchMatchStereo(path, options);
+  size_t all_accurate = 0;
+  const size_t all_valid = count(&all_accurate);
+  options.visible_sources_only = true;
+  options.overwrite = true;
+  RunLidarPatchMatchStereo(path, options);
+  size_t visible_accurate = 0;
+  const size_t visible_valid = count(&visible_accurate);
+  std::cout << "v0: " << all_valid << " valid (" << all_accurate
+            << " within 5 cm) counting every source, " << visible_valid
+            << " (" << visible_accurate << ") counting the visible ones"
+            << std::endl;
+  // The views overlap widely here: the count gains 3 % of the image.
+  EXPECT_GT(visible_valid, all_valid + kWidth * kHeight / 50);
+  EXPECT_GT(visible_accurate, visible_valid * 98 / 100);
 }
 
 TEST(LidarPatchMatchStereo, LidarInitNeedsTheFusedCloud) {

@@ -1,5 +1,6 @@
 #include "src/mvs/map_filter.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "colmap_ext/util/logging.h"
@@ -68,6 +69,9 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
       const float depth = map->depth[i];
       if (!(depth > 0)) continue;
       int num_consistent = 0;
+      // Views able to confirm the pixel: the LIDAR where it measured one,
+      // the sources whose image contains the point.
+      int num_able = lidar_votes && lidar_depth[i] > 0 ? 1 : 0;
       const bool lidar_agrees =
           lidar_votes && lidar_depth[i] > 0 &&
           std::abs(depth - lidar_depth[i]) <= max_lidar_relative * lidar_depth[i];
@@ -75,16 +79,23 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
         ++num_consistent;
       }
       for (int s = 0; s < cost.NumSources(); ++s) {
+        if (cost.SourceSees(s, row, col, depth)) ++num_able;
         if (cost.ReprojectionError(s, row, col, depth) <= max_reproj &&
             cost.SourceDepthError(s, row, col, depth) <= max_relative) {
           ++num_consistent;
         }
       }
-      if (num_consistent < options.filter_min_num_consistent) {
+      // A pixel no view can see is not confirmed by fewer required views.
+      const int required =
+          options.visible_sources_only
+              ? std::min(options.filter_min_num_consistent,
+                         std::max(1, num_able))
+              : options.filter_min_num_consistent;
+      if (num_consistent < required) {
         map->depth[i] = 0.0f;
         map->normal[i].setZero();
       } else if (lidar_agrees && kept_by_lidar != nullptr &&
-                 num_consistent == options.filter_min_num_consistent) {
+                 num_consistent == required) {
         (*kept_by_lidar)[i] = 1;
       }
     }

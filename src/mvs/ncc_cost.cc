@@ -25,7 +25,9 @@ PatchCostComputer::PatchCostComputer(const MvsView& ref,
           static_cast<float>(1.0 / (2.0 * options.sigma_color *
                                     options.sigma_color))),
       geom_regularizer_(static_cast<float>(options.geom_consistency_regularizer)),
-      geom_max_cost_(static_cast<float>(options.geom_consistency_max_cost)) {
+      geom_max_cost_(static_cast<float>(options.geom_consistency_max_cost)),
+      best_views_fraction_(options.best_views_fraction),
+      visible_sources_only_(options.visible_sources_only) {
   THROW_CHECK(!srcs.empty(), "view " << ref.name << " has no source views");
   const Eigen::Matrix3f R_ref_t = ref.R.transpose();
   for (const MvsView* src : srcs) {
@@ -162,6 +164,22 @@ float PatchCostComputer::PhotometricCost(const RefPatch& patch, int src,
   return std::clamp(1.0f - ncc, 0.0f, kMaxCost);
 }
 
+bool PatchCostComputer::SourceSees(int src, int row, int col,
+                                   float depth) const {
+  const SourceGeometry& geometry = srcs_[src];
+  const Eigen::Vector3f point_in_src =
+      geometry.R * (depth * ref_.Ray(row, col)) + geometry.t;
+  if (!(point_in_src.z() > 0)) {
+    return false;
+  }
+  const MvsView& view = *geometry.view;
+  const Eigen::Vector3f projection = view.K * point_in_src;
+  const float x = projection.x() / projection.z();
+  const float y = projection.y() / projection.z();
+  return x >= -0.5f && y >= -0.5f && x < view.width - 0.5f &&
+         y < view.height - 0.5f;
+}
+
 float PatchCostComputer::ReprojectionError(int src, int row, int col,
                                            float depth) const {
   const PlaneMap* map = src_maps_.empty() ? nullptr : src_maps_[src];
@@ -237,7 +255,15 @@ float PatchCostComputer::Cost(const RefPatch& patch, float depth,
     }
     costs[s] = cost;
   }
-  const int k = std::min(num_best_, n);
+  int k = std::min(num_best_, n);
+  if (visible_sources_only_) {
+    int num_visible = 0;
+    for (int s = 0; s < n; ++s) {
+      if (SourceSees(s, patch.row, patch.col, depth)) ++num_visible;
+    }
+    k = std::min(n, std::max(1, static_cast<int>(std::ceil(
+                                    best_views_fraction_ * num_visible))));
+  }
   std::partial_sort(costs, costs + k, costs + n);
   float sum = 0.0f;
   for (int i = 0; i < k; ++i) {

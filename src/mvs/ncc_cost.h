@@ -69,9 +69,14 @@ class PatchCostComputer {
   // and the source map at the projection; infinity as above.
   float SourceDepthError(int src, int row, int col, float depth) const;
 
+  // Whether the point of pixel (row, col) at `depth` lies in front of source
+  // `src` and projects inside its image.
+  bool SourceSees(int src, int row, int col, float depth) const;
+
   // The aggregated cost: per view photometric (+ regulariser * min(error,
   // max) when source maps are set), mean of the best
-  // ceil(best_views_fraction * n) views.
+  // ceil(best_views_fraction * n) views; n is the number of sources, or with
+  // visible_sources_only the number that see the point (at least 1).
   float Cost(const RefPatch& patch, float depth,
              const Eigen::Vector3f& normal) const;
 
@@ -94,6 +99,8 @@ class PatchCostComputer {
   int num_best_;
   float geom_regularizer_;
   float geom_max_cost_;
+  double best_views_fraction_;
+  bool visible_sources_only_;
 };
 
 }  // namespace colmap_lidar

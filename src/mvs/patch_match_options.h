@@ -50,6 +50,16 @@ struct LidarPatchMatchOptions {
   // The cost of a hypothesis is the mean of the best ceil(fraction * n)
   // per-view costs (occlusion robustness), (0, 1].
   double best_views_fraction = 0.5;
+  // Count only the sources whose image contains the hypothesis's point (in
+  // front of the camera): n above is their number (at least 1), and the
+  // geometric filter asks min(filter_min_num_consistent, that number + the
+  // LIDAR) agreeing views. A view that cannot see a point neither confirms
+  // nor refutes it; counting it as a failed match drops every pixel outside
+  // the overlap of several sources (the frames of a walk 2 m apart overlap
+  // by 40-50 %). A source that sees something else in front of the point
+  // still counts (its image contains the point), so occlusion is not
+  // mistaken for invisibility.
+  bool visible_sources_only = true;
 
   // Soft LIDAR prior (init lidar only): cost += weight * min(|d - d_lidar| /
   // (d_lidar * tolerance), 1) at every pixel of the interpolated

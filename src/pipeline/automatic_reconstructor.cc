@@ -157,13 +157,7 @@ std::string RunSfmStage(const PipelineContext& context) {
   mapper_paths.database_path = paths.database;
   mapper_paths.image_path = ImportedImagePath(paths);
   mapper_paths.output_path = paths.refined_model;
-  const LidarMapperSummary summary = RunLidarMapper(mapper_paths, options);
-  std::ostringstream note;
-  note << summary.num_images << " images, " << summary.num_points
-       << " points, " << summary.num_lines << " line tracks, "
-       << summary.iterations.size() << " iterations"
-       << (summary.converged ? " (converged)" : " (not converged)");
-  return note.str();
+  return RunLidarMapper(mapper_paths, options).Outcome();
 }
 
 // Keeps every step-th reference of patch-match.cfg (sources unchanged) and

@@ -1,5 +1,6 @@
 #include "src/sfm/lidar_mapper.h"
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 #include <unordered_map>
@@ -93,6 +94,33 @@ bool LidarMapperOptions::Check() const {
 #undef LIDAR_MAPPER_CHECK
   return extraction.Check() && matching.Check() && adjustment.Check() &&
          (init_method != "lidar_graph" || lidar_graph.Check());
+}
+
+std::string LidarMapperSummary::Outcome() const {
+  std::ostringstream out;
+  out << num_images << " images, " << num_points << " points, " << num_lines
+      << " line tracks, " << iterations.size() << " iterations"
+      << (converged ? " (converged)" : " (not converged)");
+  if (num_lidar_edges > 0) {
+    out << "; " << num_lidar_edges << " LIDAR edges, "
+        << num_lidar_edge_violated_frames << " frames violate one"
+        << (kept_lidar_graph_poses ? ", graph poses kept" : "");
+  }
+  if (!images_without_points.empty()) {
+    // A handful of names says which; a night drive would list them all.
+    constexpr size_t kMaxNames = 5;
+    out << "; " << images_without_points.size()
+        << " images observe no 3D point, posed by "
+        << (num_lidar_edges > 0 ? "the LIDAR graph and their priors"
+                                : "their priors")
+        << " alone:";
+    for (size_t i = 0; i < std::min(kMaxNames, images_without_points.size());
+         ++i) {
+      out << " " << images_without_points[i];
+    }
+    if (images_without_points.size() > kMaxNames) out << " ...";
+  }
+  return out.str();
 }
 
 std::string LidarMapperSummary::Format() const {

@@ -277,6 +277,10 @@ struct LidarMapperSummary {
   std::vector<std::string> images_without_points;
 
   std::string Format() const;
+  // One line for the pipeline's stage record and report: counts, whether
+  // it converged, and what a user must know of the poses (frames posed by
+  // the LIDAR graph alone, edges violated, graph poses kept).
+  std::string Outcome() const;
 };
 
 struct LidarMapperPaths {

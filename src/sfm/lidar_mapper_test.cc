@@ -381,6 +381,13 @@ TEST(LidarMapperFeaturelessFrame, IsPosedByTheLidarGraph) {
             std::vector<std::string>({kFeaturelessImage}));
   EXPECT_NE(summary.Format().find("observe no 3D point"), std::string::npos)
       << summary.Format();
+  // The pipeline's stage record (and so the report) says it too.
+  EXPECT_NE(summary.Outcome().find(std::string("images observe no 3D point, "
+                                               "posed by the LIDAR graph and "
+                                               "their priors alone: ") +
+                                   kFeaturelessImage),
+            std::string::npos)
+      << summary.Outcome();
 
   const Reconstruction refined =
       ReadReconstruction(JoinPaths(workspace, "sparse/refined"));
