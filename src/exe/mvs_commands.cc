@@ -219,6 +219,9 @@ int RunLidarPatchMatchStereoCommand(int argc, char** argv) {
             << summary.num_geometric_skipped << " skipped), "
             << summary.num_without_sources << " without sources, "
             << summary.seconds << " s" << std::endl;
+  if (summary.support.Total() > 0) {
+    std::cout << "Geometric maps: " << summary.support.Format() << std::endl;
+  }
   return EXIT_SUCCESS;
 }
 

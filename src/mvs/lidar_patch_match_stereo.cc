@@ -402,8 +402,10 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
                                         options.filter_max_reproj_error),
                  prior_depth, options, &state);
       std::vector<uint8_t> kept_by_lidar;
+      DepthSupportCounts support;
       const size_t kept = FilterByConsistency(cost, options, prior_depth,
-                                              &state, &kept_by_lidar);
+                                              &state, &kept_by_lidar, &support);
+      summary.support += support;
       // The mask before the maps: maps that exist (done, on a resume)
       // always have theirs.
       const std::string mask_path = FusionMaskPath(workspace, image.name);
@@ -419,7 +421,8 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
       ++summary.num_geometric_computed;
       LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
                 << ": geometric, " << kept << " valid pixels ("
-                << num_kept_by_lidar << " by one view and the LIDAR), "
+                << num_kept_by_lidar << " need the LIDAR, "
+                << support.lidar_only << " of them by the LIDAR alone), "
                 << Seconds(image_start) << " s";
     }
   }

@@ -27,6 +27,7 @@
 
 #include "src/lidar/lidar_fusion.h"
 #include "src/mvs/depth_init.h"
+#include "src/mvs/map_filter.h"
 #include "src/mvs/mvs_view.h"
 #include "src/mvs/patch_match_options.h"
 #include "src/mvs/plane_map.h"
@@ -68,6 +69,8 @@ struct LidarPatchMatchSummary {
   int num_without_sources = 0;
   // Geometric pixels kept by the LIDAR's vote (masked out of fusion).
   size_t num_kept_by_lidar = 0;
+  // Geometric pixels by what confirmed them (maps computed in this run).
+  DepthSupportCounts support;
   double seconds = 0.0;
 };
 

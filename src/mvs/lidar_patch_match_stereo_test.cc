@@ -227,8 +227,15 @@ TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
 
   options.filter_lidar_as_view = true;
   options.overwrite = true;
-  RunLidarPatchMatchStereo(path, options);
+  const LidarPatchMatchSummary summary =
+      RunLidarPatchMatchStereo(path, options);
   const size_t num_valid = count(&num_accurate);
+  // No pixel can pass on the images alone; some sources agree with each.
+  EXPECT_EQ(summary.support.images_only + summary.support.images_and_lidar,
+            0u);
+  EXPECT_EQ(summary.support.lidar_and_views + summary.support.lidar_only,
+            summary.num_kept_by_lidar);
+  EXPECT_GT(summary.support.lidar_and_views, summary.support.lidar_only);
   std::cout << num_valid << " pixels confirmed by 4 views and the LIDAR, "
             << num_accurate << " within 5 cm" << std::endl;
   EXPECT_GT(num_valid, kWidth * kHeight / 4);
@@ -286,7 +293,11 @@ TEST(LidarPatchMatchStereo, OnlyVisibleSourcesCount) {
   const size_t all_valid = count(&all_accurate);
   options.visible_sources_only = true;
   options.overwrite = true;
-  RunLidarPatchMatchStereo(path, options);
+  const LidarPatchMatchSummary summary =
+      RunLidarPatchMatchStereo(path, options);
+  // Without the LIDAR's vote every kept pixel rests on the images.
+  EXPECT_EQ(summary.support.images_only, summary.support.Total());
+  EXPECT_GT(summary.support.Total(), 0u);
   size_t visible_accurate = 0;
   const size_t visible_valid = count(&visible_accurate);
   std::cout << "v0: " << all_valid << " valid (" << all_accurate

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "colmap_ext/util/logging.h"
 #include "src/mvs/parallel_rows.h"
@@ -42,11 +44,36 @@ size_t FilterByCostOrPrior(float max_cost, const std::vector<float>& prior_depth
   return kept;
 }
 
+DepthSupportCounts& DepthSupportCounts::operator+=(
+    const DepthSupportCounts& other) {
+  images_only += other.images_only;
+  images_and_lidar += other.images_and_lidar;
+  lidar_and_views += other.lidar_and_views;
+  lidar_only += other.lidar_only;
+  return *this;
+}
+
+std::string DepthSupportCounts::Format() const {
+  const double total = static_cast<double>(std::max<size_t>(Total(), 1));
+  const auto percent = [&](size_t n) {
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(1) << 100.0 * n / total << " %";
+    return out.str();
+  };
+  std::ostringstream out;
+  out << Total() << " pixels: " << percent(images_only) << " images only, "
+      << percent(images_and_lidar) << " images and LIDAR, "
+      << percent(lidar_and_views + lidar_only) << " need the LIDAR ("
+      << percent(lidar_only) << " the LIDAR alone)";
+  return out.str();
+}
+
 size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,
                            const std::vector<float>& lidar_depth,
                            PlaneMap* map,
-                           std::vector<uint8_t>* kept_by_lidar) {
+                           std::vector<uint8_t>* kept_by_lidar,
+                           DepthSupportCounts* support) {
   THROW_CHECK(cost.HasSourceMaps(),
               "consistency filter of " << cost.Ref().name
                                        << " without source maps");
@@ -60,9 +87,8 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
   const float max_reproj = static_cast<float>(options.filter_max_reproj_error);
   const float max_relative =
       static_cast<float>(options.filter_max_relative_depth_error);
-  if (kept_by_lidar != nullptr) {
-    kept_by_lidar->assign(map->depth.size(), 0);
-  }
+  // Per pixel: 0 dropped, else 1 + the DepthSupportCounts field (in order).
+  std::vector<uint8_t> label(map->depth.size(), 0);
   ParallelForRows(map->height, options.num_threads, [&](int row) {
     for (int col = 0; col < map->width; ++col) {
       const size_t i = map->Index(row, col);
@@ -94,12 +120,28 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
       if (num_consistent < required) {
         map->depth[i] = 0.0f;
         map->normal[i].setZero();
-      } else if (lidar_agrees && kept_by_lidar != nullptr &&
-                 num_consistent == required) {
-        (*kept_by_lidar)[i] = 1;
+      } else if (!lidar_agrees) {
+        label[i] = 1;
+      } else if (num_consistent > required) {
+        label[i] = 2;
+      } else {
+        label[i] = num_consistent > 1 ? 3 : 4;
       }
     }
   });
+  if (kept_by_lidar != nullptr) {
+    kept_by_lidar->assign(map->depth.size(), 0);
+    for (size_t i = 0; i < label.size(); ++i) {
+      (*kept_by_lidar)[i] = label[i] >= 3 ? 1 : 0;
+    }
+  }
+  if (support != nullptr) {
+    size_t* fields[4] = {&support->images_only, &support->images_and_lidar,
+                         &support->lidar_and_views, &support->lidar_only};
+    for (const uint8_t l : label) {
+      if (l > 0) ++*fields[l - 1];
+    }
+  }
   return map->NumValid();
 }
 

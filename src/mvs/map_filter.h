@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "src/mvs/ncc_cost.h"
@@ -26,17 +27,40 @@ size_t FilterByCost(float max_cost, PlaneMap* map);
 size_t FilterByCostOrPrior(float max_cost, const std::vector<float>& prior_depth,
                            float prior_tolerance, PlaneMap* map);
 
+// What confirmed the pixels a consistency filter kept (issue 17: how much of
+// the depth comes from the images, from the LIDAR, from both).
+struct DepthSupportCounts {
+  // Enough source views agree; the LIDAR has no depth there or disagrees.
+  size_t images_only = 0;
+  // Enough source views agree, and so does the LIDAR.
+  size_t images_and_lidar = 0;
+  // Kept only thanks to the LIDAR's vote (masked out of fusion): with
+  // agreeing source views, fewer than required, or with none (no source view
+  // sees the point: the LIDAR alone, with visible_sources_only).
+  size_t lidar_and_views = 0;
+  size_t lidar_only = 0;
+
+  size_t Total() const {
+    return images_only + images_and_lidar + lidar_and_views + lidar_only;
+  }
+  DepthSupportCounts& operator+=(const DepthSupportCounts& other);
+  // "N pixels: a % images only, b % images and LIDAR, c % need the LIDAR
+  // (d % the LIDAR alone)".
+  std::string Format() const;
+};
+
 // Needs cost.HasSourceMaps(). `lidar_depth` (row-major of the map's size,
 // 0: none; may be empty) is the interpolated LIDAR depth: with
 // options.filter_lidar_as_view, agreeing with it within
 // filter_lidar_max_relative_depth_error counts as one consistent view.
 // `kept_by_lidar` (optional) is set to the map's size, 1 where a pixel was
-// kept only thanks to that vote, 0 elsewhere. Returns the number of pixels
-// kept.
+// kept only thanks to that vote, 0 elsewhere; `support` (optional) counts the
+// kept pixels by what confirmed them. Returns the number of pixels kept.
 size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,
                            const std::vector<float>& lidar_depth,
                            PlaneMap* map,
-                           std::vector<uint8_t>* kept_by_lidar = nullptr);
+                           std::vector<uint8_t>* kept_by_lidar = nullptr,
+                           DepthSupportCounts* support = nullptr);
 
 }  // namespace colmap_lidar

@@ -219,6 +219,9 @@ std::string RunPatchMatchStage(const PipelineContext& context) {
        << summary.num_geometric_computed << " geometric maps computed, "
        << summary.num_photometric_skipped << " skipped as done, "
        << summary.num_without_sources << " without source views";
+  if (summary.support.Total() > 0) {
+    note << "; geometric " << summary.support.Format();
+  }
   return note.str();
 }
 
