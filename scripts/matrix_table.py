@@ -7,7 +7,8 @@ the worst cell of every column.
 Usage: matrix_table.py --work DIR --cells_file FILE [--output FILE.md]
 
 Reads, per run (<work>/<cell>/run<r>/):
-  ws/pipeline/stages.json          wall / CPU seconds, peak memory per stage
+  ws/pipeline/stages.json          wall / CPU seconds, peak memory per stage;
+                                   the patch_match note: what confirmed the depth
   ws/eval/poses_*.json             pose errors (pose_evaluator schema)
   ws/eval/mesh_*.json              mesh P/R/F (mesh_evaluator schema)
   ws/eval/depth_maps.json          depth maps within 5 cm, coverage
@@ -173,6 +174,27 @@ def depth(run, key):
     return value
 
 
+def depth_support(run, what):
+    """Share (0-1) of the geometric pixels by what confirmed them, from the
+    patch_match stage record's note (colmap-lidar's DepthSupportCounts:
+    "... N pixels: a % images only, b % images and LIDAR, c % need the LIDAR
+    (d % the LIDAR alone)")."""
+    records = load_json(f"{run}/ws/pipeline/stages.json")
+    if not records:
+        return None
+    for record in records.get("stages", []):
+        if record["stage"] != "patch_match":
+            continue
+        match = re.search(r"pixels: ([\d.]+) % images only, ([\d.]+) % images and "
+                          r"LIDAR, ([\d.]+) % need the LIDAR \(([\d.]+) % the LIDAR alone\)",
+                          record.get("note", ""))
+        if not match:
+            return None
+        index = {"images_only": 1, "both": 2, "need_lidar": 3, "lidar_only": 4}[what]
+        return float(match.group(index)) / 100.0
+    return None
+
+
 def mesh(run, name, threshold, field="fscore"):
     return at_threshold(load_json(f"{run}/ws/eval/mesh_{name}.json"), field,
                         threshold)
@@ -306,6 +328,14 @@ COLUMNS = [
            lambda r: depth(r, "surface_within_5cm"), True, pct),
     Column("depth_cov", "depth coverage %", lambda r: depth(r, "coverage"),
            True, pct),
+    Column("depth_images_only", "depth pixels from the images only %",
+           lambda r: depth_support(r, "images_only"), True, pct),
+    Column("depth_both", "depth pixels from the images and the LIDAR %",
+           lambda r: depth_support(r, "both"), True, pct),
+    Column("depth_need_lidar", "depth pixels that need the LIDAR %",
+           lambda r: depth_support(r, "need_lidar"), False, pct),
+    Column("depth_lidar_only", "depth pixels from the LIDAR alone %",
+           lambda r: depth_support(r, "lidar_only"), False, pct),
 ]
 for t in THRESHOLDS:
     label = f"{t:g}"
