@@ -111,7 +111,9 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
           ++num_consistent;
         }
       }
-      // A pixel no view can see is not confirmed by fewer required views.
+      // visible_sources_only: min(filter_min_num_consistent, the views able
+      // to confirm the pixel) must agree, at least one (a pixel that no view
+      // can see is dropped).
       const int required =
           options.visible_sources_only
               ? std::min(options.filter_min_num_consistent,

@@ -3,7 +3,10 @@
 // filter_max_cost; geometric maps also need at least
 // filter_min_num_consistent source views whose depth map agrees
 // (forward-backward reprojection error <= filter_max_reproj_error pixels and
-// relative depth error <= filter_max_relative_depth_error).
+// relative depth error <= filter_max_relative_depth_error), the LIDAR
+// counting as one with filter_lidar_as_view; with visible_sources_only no
+// more than the views that can see the pixel (the sources whose image holds
+// its point, and the LIDAR where it has a depth there).
 #pragma once
 
 #include <cstdint>
