@@ -17,7 +17,8 @@ Usage: /usr/bin/python3 scripts/depth_coverage_report.py --workspace WS
   WS       the pipeline's workspace (WS/dense/stereo/depth_maps)
   DATASET  the synthetic recording (calibration.yaml, poses_gt.txt,
            ground_truth/depth_maps; colmap-lidar synthesize)
-Needs numpy and scipy (Debian: python3-numpy, python3-scipy).
+Cameras without distortion only (PINHOLE, SIMPLE_PINHOLE). Needs numpy
+(Debian: python3-numpy).
 """
 
 import argparse
@@ -25,52 +26,9 @@ import os
 import sys
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
-
-def read_mat(path):
-    """COLMAP's dense map format: "W&H&C&" then float32, first channel."""
-    with open(path, 'rb') as f:
-        header = b''
-        while header.count(b'&') < 3:
-            byte = f.read(1)
-            if not byte:
-                sys.exit(f'{path}: truncated header')
-            header += byte
-        width, height, channels = (int(x) for x in header.decode().split('&')[:3])
-        data = np.fromfile(f, dtype=np.float32)
-    if data.size != width * height * channels:
-        sys.exit(f'{path}: {data.size} values for {width}x{height}x{channels}')
-    return data.reshape(channels, height, width)[0]
-
-
-def read_calibration(path):
-    """The few keys needed, without a YAML dependency (dataset-format.md)."""
-    lines = open(path).read().splitlines()
-    values = {}
-    matrix = []
-    section = None
-    for line in lines:
-        text = line.split('#')[0].rstrip()
-        if not text:
-            continue
-        if not text.startswith(' '):
-            section = text.rstrip(':').strip()
-            continue
-        key, _, value = text.strip().partition(':')
-        if section == 'cam_from_lidar' and text.strip().startswith('-'):
-            matrix.append([float(x) for x in text.strip()[1:].strip(' []').split(',')])
-        elif value:
-            values[f'{section}.{key.strip()}'] = value.strip()
-    params = [float(x) for x in values['camera.params'].strip('[]').split(',')]
-    fov = values.get('lidar.vertical_fov_deg')
-    return {
-        'width': int(values['camera.width']),
-        'height': int(values['camera.height']),
-        'params': params,
-        'cam_from_lidar': np.array(matrix),
-        'fov': [float(x) for x in fov.strip('[]').split(',')] if fov else None,
-    }
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from observed_crease_edges import read_calibration, read_mat, read_poses  # noqa: E402
 
 
 def main():
@@ -79,19 +37,14 @@ def main():
     parser.add_argument('--dataset', required=True)
     parser.add_argument('--by_depth', action='store_true')
     args = parser.parse_args()
-    calib = read_calibration(os.path.join(args.dataset, 'calibration.yaml'))
-    if calib['fov'] is None:
-        sys.exit('calibration.yaml has no lidar.vertical_fov_deg')
-    fx, fy, cx, cy = calib['params'][:4]
-    width, height = calib['width'], calib['height']
+    calib_path = os.path.join(args.dataset, 'calibration.yaml')
+    if 'vertical_fov_deg' not in open(calib_path).read():
+        sys.exit(f'{calib_path} has no lidar.vertical_fov_deg')
+    calib = read_calibration(calib_path)  # PINHOLE / SIMPLE_PINHOLE only
+    fx, fy, cx, cy = calib['K']
+    width, height = int(calib['width']), int(calib['height'])
     lidar_from_cam = np.linalg.inv(calib['cam_from_lidar'])
-    poses = {}
-    for line in open(os.path.join(args.dataset, 'poses_gt.txt')):
-        if line.startswith('#') or not line.strip():
-            continue
-        v = line.split()
-        poses[v[0]] = (Rotation.from_quat([float(x) for x in v[4:8]]).as_matrix(),
-                       np.array([float(x) for x in v[1:4]]))  # world_from_cam
+    poses = read_poses(os.path.join(args.dataset, 'poses_gt.txt'))  # world_from_cam
     names = sorted(poses)
     truth = {n: read_mat(os.path.join(args.dataset, 'ground_truth/depth_maps',
                                       f'{n}.bin')) for n in names}

@@ -189,6 +189,27 @@ TEST(LidarPatchMatchStereo, WritesMapsThatStockFusionTurnsIntoTheSurface) {
                         "v3.png", DenseMapType::kGeometric)));
 }
 
+// Valid pixels of view `index`'s geometric depth map; `num_accurate`: those
+// within 5 cm of the ground truth `gt[index]`.
+size_t CountValidPixels(const DenseWorkspace& workspace,
+                        const std::vector<std::vector<float>>& gt, int index,
+                        size_t* num_accurate) {
+  const DepthMap depth = DepthMap::Read(workspace.DepthMapPath(
+      "v" + std::to_string(index) + ".png", DenseMapType::kGeometric));
+  size_t num_valid = 0;
+  *num_accurate = 0;
+  for (int r = 0; r < kHeight; ++r) {
+    for (int c = 0; c < kWidth; ++c) {
+      if (depth.IsValid(r, c)) {
+        ++num_valid;
+        *num_accurate +=
+            std::abs(depth.Get(r, c) - gt[index][r * kWidth + c]) < 0.05;
+      }
+    }
+  }
+  return num_valid;
+}
+
 // The LIDAR as one more consistent view of the geometric filter: with more
 // consistent views required than there are sources (4), only pixels that
 // the LIDAR confirms can pass, and they lie on the surface.
@@ -202,20 +223,7 @@ TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
   options.visible_sources_only = false;
   const DenseWorkspace workspace(path);
   const auto count = [&](size_t* num_accurate) {
-    const DepthMap depth = DepthMap::Read(
-        workspace.DepthMapPath("v2.png", DenseMapType::kGeometric));
-    size_t num_valid = 0;
-    *num_accurate = 0;
-    for (int r = 0; r < kHeight; ++r) {
-      for (int c = 0; c < kWidth; ++c) {
-        if (depth.IsValid(r, c)) {
-          ++num_valid;
-          *num_accurate +=
-              std::abs(depth.Get(r, c) - gt[2][r * kWidth + c]) < 0.05;
-        }
-      }
-    }
-    return num_valid;
+    return CountValidPixels(workspace, gt, 2, num_accurate);
   };
   const std::string mask_path =
       JoinPaths(FusionMaskDir(path), "v2.png.png");
@@ -265,22 +273,9 @@ TEST(LidarPatchMatchStereo, OnlyVisibleSourcesCount) {
   const std::string path = JoinPaths(testing::CreateTestDir(), "dense");
   const std::vector<std::vector<float>> gt = WriteWorkspace(path);
   const DenseWorkspace workspace(path);
-  // Valid and accurate (within 5 cm) pixels of the outer view v0.
+  // Valid and accurate pixels of the outer view v0.
   const auto count = [&](size_t* num_accurate) {
-    const DepthMap depth = DepthMap::Read(
-        workspace.DepthMapPath("v0.png", DenseMapType::kGeometric));
-    size_t num_valid = 0;
-    *num_accurate = 0;
-    for (int r = 0; r < kHeight; ++r) {
-      for (int c = 0; c < kWidth; ++c) {
-        if (depth.IsValid(r, c)) {
-          ++num_valid;
-          *num_accurate +=
-              std::abs(depth.Get(r, c) - gt[0][r * kWidth + c]) < 0.05;
-        }
-      }
-    }
-    return num_valid;
+    return CountValidPixels(workspace, gt, 0, num_accurate);
   };
   LidarPatchMatchOptions options = QuickOptions(2);
   // Every source must agree where it can see: the pixels of v0 that the
