@@ -13,6 +13,7 @@
 #include "src/dataset/importer.h"
 #include "src/dataset/poses.h"
 #include "src/synth/synthesize.h"
+#include "src/synth/test_recordings.h"
 
 namespace colmap_lidar {
 namespace {
@@ -95,16 +96,7 @@ TEST(ExactFeatureMatcher, VerifiedMatchesAreTrueAndRepeatable) {
   const std::string root = testing::CreateTestDir();
   const std::string dataset = JoinPaths(root, "dataset");
   const std::string workspace = JoinPaths(root, "workspace");
-  SynthesisOptions synthesis;
-  synthesis.num_frames = 6;
-  synthesis.path_fraction = 0.06;
-  synthesis.image_width = 640;
-  synthesis.image_height = 480;
-  synthesis.supersampling = 1;
-  synthesis.survey_num_stations = 0;
-  synthesis.write_depth_maps = false;
-  synthesis.num_threads = 2;
-  SynthesizeDataset(synthesis, dataset);
+  SynthesizeDataset(QuickTestRecording(6, 0.06, 640, 480), dataset);
   const std::string database_path = JoinPaths(workspace, "database.db");
   ImportDataset(dataset, workspace, database_path, ImporterOptions());
   ColmapRunner().Run("feature_extractor",

@@ -19,6 +19,7 @@
 #include "src/eval/segment_io.h"
 #include "src/sfm/model_alignment.h"
 #include "src/synth/synthesize.h"
+#include "src/synth/test_recordings.h"
 
 namespace colmap_lidar {
 namespace {
@@ -44,16 +45,8 @@ double MeanPositionErrorNoAlignment(const Reconstruction& model,
 void SynthesizeAndImportQuadWalk(int num_frames, double path_fraction,
                                  const std::string& dataset,
                                  const std::string& workspace) {
-  SynthesisOptions synthesis;
-  synthesis.num_frames = num_frames;
-  synthesis.path_fraction = path_fraction;
-  synthesis.image_width = 848;
-  synthesis.image_height = 480;
-  synthesis.supersampling = 1;
-  synthesis.survey_num_stations = 0;
-  synthesis.write_depth_maps = false;
-  synthesis.num_threads = 2;
-  SynthesizeDataset(synthesis, dataset);
+  SynthesizeDataset(QuickTestRecording(num_frames, path_fraction, 848, 480),
+                    dataset);
   ImportDataset(dataset, workspace, JoinPaths(workspace, "database.db"),
                 ImporterOptions());
 }

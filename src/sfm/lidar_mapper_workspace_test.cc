@@ -7,6 +7,7 @@
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/testing.h"
 #include "src/synth/synthesize.h"
+#include "src/synth/test_recordings.h"
 
 namespace colmap_lidar {
 namespace {
@@ -19,16 +20,9 @@ class LidarMapperWorkspaceTest : public ::testing::Test {
   static void SetUpTestSuite() {
     root_ = new std::string(testing::CreateTestDir());
     dataset_ = new std::string(JoinPaths(*root_, "dataset"));
-    SynthesisOptions synthesis;
-    synthesis.num_frames = kNumFrames;
-    synthesis.path_fraction = 0.05;
-    synthesis.image_width = 160;
-    synthesis.image_height = 120;
-    synthesis.supersampling = 1;
+    SynthesisOptions synthesis =
+        QuickTestRecording(kNumFrames, 0.05, 160, 120);
     synthesis.lidar_model = "VLP-16";
-    synthesis.survey_num_stations = 0;
-    synthesis.write_depth_maps = false;
-    synthesis.num_threads = 2;
     SynthesizeDataset(synthesis, *dataset_);
   }
   static void TearDownTestSuite() {
