@@ -195,6 +195,24 @@ def depth_support(run, what):
     return None
 
 
+def depth_not_fused(run):
+    """Share (0-1) of the geometric pixels kept out of fusion (the LIDAR's
+    vote or the parallax tolerance alone kept them), from the patch_match
+    stage record's note ("geometric N pixels: ...; M kept out of fusion")."""
+    records = load_json(f"{run}/ws/pipeline/stages.json")
+    if not records:
+        return None
+    for record in records.get("stages", []):
+        if record["stage"] != "patch_match":
+            continue
+        match = re.search(r"geometric (\d+) pixels:.*; (\d+) kept out of fusion",
+                          record.get("note", ""))
+        if not match or int(match.group(1)) == 0:
+            return None
+        return int(match.group(2)) / int(match.group(1))
+    return None
+
+
 def mesh(run, name, threshold, field="fscore"):
     return at_threshold(load_json(f"{run}/ws/eval/mesh_{name}.json"), field,
                         threshold)
@@ -336,6 +354,8 @@ COLUMNS = [
            lambda r: depth_support(r, "need_lidar"), False, pct),
     Column("depth_lidar_only", "depth pixels from the LIDAR alone %",
            lambda r: depth_support(r, "lidar_only"), False, pct),
+    Column("depth_not_fused", "depth pixels kept out of fusion %",
+           depth_not_fused, False, pct),
 ]
 for t in THRESHOLDS:
     label = f"{t:g}"

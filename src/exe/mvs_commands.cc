@@ -106,6 +106,10 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      "n of the cost and the views the geometric filter asks "
                      "for count only the sources whose image contains the "
                      "point (and the LIDAR).");
+  options->AddOption(s + "source_plane_depth", &o->source_plane_depth,
+                     "The geometric term and filter read a source's depth "
+                     "at the sub-pixel projection from its nearest pixel's "
+                     "plane, not that pixel's depth (not in the paper).");
   options->AddOption(s + "lidar_prior_weight", &o->lidar_prior_weight,
                      "Soft LIDAR prior weight in the cost; 0: off.");
   options->AddOption(s + "lidar_prior_tolerance", &o->lidar_prior_tolerance,
@@ -143,6 +147,10 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddOption(s + "filter_max_relative_depth_error",
                      &o->filter_max_relative_depth_error,
                      "Consistency: relative depth error, > 0.");
+  options->AddOption(s + "filter_reproj_parallax", &o->filter_reproj_parallax,
+                     "The filter's reprojection tolerance grows by the "
+                     "parallax of filter_max_relative_depth_error of the "
+                     "source's depth (not in the paper).");
   options->AddOption(s + "filter_lidar_as_view", &o->filter_lidar_as_view,
                      "Geometric maps, init lidar: agreeing with the "
                      "interpolated LIDAR depth counts as one consistent "
@@ -220,7 +228,9 @@ int RunLidarPatchMatchStereoCommand(int argc, char** argv) {
             << summary.num_without_sources << " without sources, "
             << summary.seconds << " s" << std::endl;
   if (summary.support.Total() > 0) {
-    std::cout << "Geometric maps: " << summary.support.Format() << std::endl;
+    std::cout << "Geometric maps: " << summary.support.Format() << "; "
+              << summary.num_not_fused << " kept out of fusion ("
+              << FusionMaskDir(workspace_path) << ")" << std::endl;
   }
   return EXIT_SUCCESS;
 }

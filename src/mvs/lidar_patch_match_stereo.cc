@@ -66,16 +66,16 @@ std::string FusionMaskPath(const DenseWorkspace& workspace,
   return JoinPaths(FusionMaskDir(workspace.Path()), name + ".png");
 }
 
-// 8-bit PNG, 0 where `kept_by_lidar` is 1, else 255 (stereo_fusion skips the
+// 8-bit PNG, 0 where `not_fused` is 1, else 255 (stereo_fusion skips the
 // pixels of a mask that are 0).
 void WriteFusionMask(const std::string& path,
-                     const std::vector<uint8_t>& kept_by_lidar, int width,
+                     const std::vector<uint8_t>& not_fused, int width,
                      int height) {
-  THROW_CHECK(kept_by_lidar.size() == static_cast<size_t>(width) * height,
-              "fusion mask of " << kept_by_lidar.size() << " pixels for "
+  THROW_CHECK(not_fused.size() == static_cast<size_t>(width) * height,
+              "fusion mask of " << not_fused.size() << " pixels for "
                                 << width << "x" << height << ": " << path);
   const cv::Mat flags(height, width, CV_8UC1,
-                      const_cast<uint8_t*>(kept_by_lidar.data()));
+                      const_cast<uint8_t*>(not_fused.data()));
   const cv::Mat mask = flags == 0;  // 255 where true.
   std::vector<uchar> png;
   THROW_CHECK(cv::imencode(".png", mask, png), "Cannot encode " << path);
@@ -401,28 +401,31 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
                                     options.geom_consistency_regularizer *
                                         options.filter_max_reproj_error),
                  prior_depth, options, &state);
-      std::vector<uint8_t> kept_by_lidar;
+      std::vector<uint8_t> not_fused;
       DepthSupportCounts support;
       const size_t kept = FilterByConsistency(cost, options, prior_depth,
-                                              &state, &kept_by_lidar, &support);
+                                              &state, &not_fused, &support);
       summary.support += support;
       // The mask before the maps: maps that exist (done, on a resume)
       // always have theirs.
       const std::string mask_path = FusionMaskPath(workspace, image.name);
-      size_t num_kept_by_lidar = 0;
-      if (options.filter_lidar_as_view && !prior_depth.empty()) {
-        for (const uint8_t flag : kept_by_lidar) num_kept_by_lidar += flag;
-        WriteFusionMask(mask_path, kept_by_lidar, state.width, state.height);
+      size_t num_not_fused = 0;
+      if ((options.filter_lidar_as_view && !prior_depth.empty()) ||
+          options.filter_reproj_parallax) {
+        for (const uint8_t flag : not_fused) num_not_fused += flag;
+        WriteFusionMask(mask_path, not_fused, state.width, state.height);
       } else {
         std::filesystem::remove(mask_path);
       }
-      summary.num_kept_by_lidar += num_kept_by_lidar;
+      summary.num_not_fused += num_not_fused;
       WriteMaps(workspace, image.name, DenseMapType::kGeometric, state);
       ++summary.num_geometric_computed;
       LOG(INFO) << "[" << j + 1 << "/" << jobs.size() << "] " << image.name
                 << ": geometric, " << kept << " valid pixels ("
-                << num_kept_by_lidar << " need the LIDAR, "
-                << support.lidar_only << " of them by the LIDAR alone), "
+                << support.lidar_and_views + support.lidar_only
+                << " need the LIDAR, " << support.lidar_only
+                << " of them by the LIDAR alone; " << num_not_fused
+                << " kept out of fusion), "
                 << Seconds(image_start) << " s";
     }
   }

@@ -11,13 +11,16 @@
 // set (resumable); every file is written atomically.
 //
 // With filter_lidar_as_view, a geometric map also keeps the pixels that one
-// source view and the LIDAR confirm (rather than two source views), and
-// stereo/fusion_masks/<name>.png marks them 0 (the others 255): those depths
-// are right (within 5 cm as often as the rest) but add nothing to a mesh that
-// has the LIDAR points themselves and measurably roughen it (quad HDL-64E:
-// precision at 2 cm 0.977 -> 0.970). Fusing with
+// source view and the LIDAR confirm (rather than two source views), and with
+// filter_reproj_parallax those that the views confirm only within the
+// parallax tolerance; stereo/fusion_masks/<name>.png marks both 0 (the others
+// 255): those depths are right (within 5 cm as often as the rest) but add
+// nothing to a mesh that has the LIDAR points themselves and measurably
+// roughen it (quad HDL-64E: precision at 2 cm 0.977 -> 0.970 for the LIDAR's
+// vote; quad VLP-16: 0.855 -> 0.851 for the parallax). Fusing with
 // `stereo_fusion --StereoFusion.mask_path <workspace>/stereo/fusion_masks`,
-// as the pipeline does, gives exactly the cloud of the two-view filter.
+// as the pipeline does, gives exactly the cloud of the strict two-view
+// filter.
 #pragma once
 
 #include <string>
@@ -67,8 +70,9 @@ struct LidarPatchMatchSummary {
   int num_geometric_computed = 0;
   int num_geometric_skipped = 0;
   int num_without_sources = 0;
-  // Geometric pixels kept by the LIDAR's vote (masked out of fusion).
-  size_t num_kept_by_lidar = 0;
+  // Geometric pixels kept by the LIDAR's vote or the parallax tolerance
+  // only (masked out of fusion).
+  size_t num_not_fused = 0;
   // Geometric pixels by what confirmed them (maps computed in this run).
   DepthSupportCounts support;
   double seconds = 0.0;

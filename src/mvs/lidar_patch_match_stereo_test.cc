@@ -228,9 +228,11 @@ TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
   const std::string mask_path =
       JoinPaths(FusionMaskDir(path), "v2.png.png");
   options.filter_lidar_as_view = false;
+  options.filter_reproj_parallax = false;
   RunLidarPatchMatchStereo(path, options);
   size_t num_accurate = 0;
   EXPECT_EQ(count(&num_accurate), 0u);
+  // Nothing to keep out of fusion: no mask.
   EXPECT_FALSE(ExistsFile(mask_path));
 
   options.filter_lidar_as_view = true;
@@ -242,7 +244,7 @@ TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
   EXPECT_EQ(summary.support.images_only + summary.support.images_and_lidar,
             0u);
   EXPECT_EQ(summary.support.lidar_and_views + summary.support.lidar_only,
-            summary.num_kept_by_lidar);
+            summary.num_not_fused);
   EXPECT_GT(summary.support.lidar_and_views, summary.support.lidar_only);
   std::cout << num_valid << " pixels confirmed by 4 views and the LIDAR, "
             << num_accurate << " within 5 cm" << std::endl;

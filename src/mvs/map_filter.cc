@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <utility>
 
 #include "colmap_ext/util/logging.h"
 #include "src/mvs/parallel_rows.h"
@@ -72,7 +73,7 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,
                            const std::vector<float>& lidar_depth,
                            PlaneMap* map,
-                           std::vector<uint8_t>* kept_by_lidar,
+                           std::vector<uint8_t>* not_fused,
                            DepthSupportCounts* support) {
   THROW_CHECK(cost.HasSourceMaps(),
               "consistency filter of " << cost.Ref().name
@@ -89,12 +90,16 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
       static_cast<float>(options.filter_max_relative_depth_error);
   // Per pixel: 0 dropped, else 1 + the DepthSupportCounts field (in order).
   std::vector<uint8_t> label(map->depth.size(), 0);
+  // Per kept pixel: 1 where fewer than the required source views agree
+  // within max_reproj pixels (without the parallax tolerance or the LIDAR).
+  std::vector<uint8_t> unfused(map->depth.size(), 0);
   ParallelForRows(map->height, options.num_threads, [&](int row) {
     for (int col = 0; col < map->width; ++col) {
       const size_t i = map->Index(row, col);
       const float depth = map->depth[i];
       if (!(depth > 0)) continue;
       int num_consistent = 0;
+      int num_strict_views = 0;
       // Views able to confirm the pixel: the LIDAR where it measured one,
       // the sources whose image contains the point.
       int num_able = lidar_votes && lidar_depth[i] > 0 ? 1 : 0;
@@ -106,8 +111,16 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
       }
       for (int s = 0; s < cost.NumSources(); ++s) {
         if (cost.SourceSees(s, row, col, depth)) ++num_able;
-        if (cost.ReprojectionError(s, row, col, depth) <= max_reproj &&
-            cost.SourceDepthError(s, row, col, depth) <= max_relative) {
+        const float depth_error = cost.SourceDepthError(s, row, col, depth);
+        if (!(depth_error <= max_relative)) continue;
+        const float reproj_error = cost.ReprojectionError(s, row, col, depth);
+        if (reproj_error <= max_reproj) {
+          ++num_strict_views;
+          ++num_consistent;
+        } else if (options.filter_reproj_parallax &&
+                   reproj_error <=
+                       max_reproj + cost.DepthErrorParallax(
+                                        s, row, col, depth, max_relative)) {
           ++num_consistent;
         }
       }
@@ -122,7 +135,10 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
       if (num_consistent < required) {
         map->depth[i] = 0.0f;
         map->normal[i].setZero();
-      } else if (!lidar_agrees) {
+        continue;
+      }
+      unfused[i] = num_strict_views < required ? 1 : 0;
+      if (!lidar_agrees) {
         label[i] = 1;
       } else if (num_consistent > required) {
         label[i] = 2;
@@ -131,11 +147,8 @@ size_t FilterByConsistency(const PatchCostComputer& cost,
       }
     }
   });
-  if (kept_by_lidar != nullptr) {
-    kept_by_lidar->assign(map->depth.size(), 0);
-    for (size_t i = 0; i < label.size(); ++i) {
-      (*kept_by_lidar)[i] = label[i] >= 3 ? 1 : 0;
-    }
+  if (not_fused != nullptr) {
+    *not_fused = std::move(unfused);
   }
   if (support != nullptr) {
     size_t* fields[4] = {&support->images_only, &support->images_and_lidar,

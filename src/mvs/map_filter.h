@@ -3,7 +3,9 @@
 // filter_max_cost; geometric maps also need at least
 // filter_min_num_consistent source views whose depth map agrees
 // (forward-backward reprojection error <= filter_max_reproj_error pixels and
-// relative depth error <= filter_max_relative_depth_error), the LIDAR
+// relative depth error <= filter_max_relative_depth_error; with
+// filter_reproj_parallax the pixel tolerance grows by the parallax of that
+// relative depth error), the LIDAR
 // counting as one with filter_lidar_as_view; with visible_sources_only no
 // more than the views that can see the pixel (the sources whose image holds
 // its point, and the LIDAR where it has a depth there).
@@ -56,14 +58,18 @@ struct DepthSupportCounts {
 // 0: none; may be empty) is the interpolated LIDAR depth: with
 // options.filter_lidar_as_view, agreeing with it within
 // filter_lidar_max_relative_depth_error counts as one consistent view.
-// `kept_by_lidar` (optional) is set to the map's size, 1 where a pixel was
-// kept only thanks to that vote, 0 elsewhere; `support` (optional) counts the
-// kept pixels by what confirmed them. Returns the number of pixels kept.
+// `not_fused` (optional) is set to the map's size, 1 where a kept pixel has
+// fewer than the required source views agreeing within
+// filter_max_reproj_error pixels, i.e. was kept only thanks to the LIDAR's
+// vote or to the parallax tolerance (filter_reproj_parallax), 0 elsewhere:
+// the fusion mask, which keeps the fused cloud that of the strict two-view
+// filter. `support` (optional) counts the kept pixels by what confirmed
+// them. Returns the number of pixels kept.
 size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,
                            const std::vector<float>& lidar_depth,
                            PlaneMap* map,
-                           std::vector<uint8_t>* kept_by_lidar = nullptr,
+                           std::vector<uint8_t>* not_fused = nullptr,
                            DepthSupportCounts* support = nullptr);
 
 }  // namespace colmap_lidar

@@ -192,4 +192,19 @@ double ShareWithinTolerance(const std::vector<float>& depth,
   return total == 0 ? 0.0 : static_cast<double>(good) / total;
 }
 
+PlaneMap GroundPlaneMap(const MvsView& view, float height, float max_depth) {
+  PlaneMap map(view.width, view.height);
+  for (int row = 0; row < view.height; ++row) {
+    for (int col = 0; col < view.width; ++col) {
+      const Eigen::Vector3f ray =
+          view.Ray(static_cast<float>(row), static_cast<float>(col));
+      if (!(ray.y() > 0) || height / ray.y() > max_depth) continue;
+      const size_t i = map.Index(row, col);
+      map.depth[i] = height / ray.y();
+      map.normal[i] = Eigen::Vector3f(0.0f, -1.0f, 0.0f);
+    }
+  }
+  return map;
+}
+
 }  // namespace colmap_lidar

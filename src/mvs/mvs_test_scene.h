@@ -69,4 +69,10 @@ double ShareWithinTolerance(const std::vector<float>& depth,
                             const std::vector<float>& gt_depth,
                             double tolerance);
 
+// The exact plane map of a level ground `height` metres below a camera that
+// looks along it (camera rotation identity: y down, z forward): per pixel
+// centre the ground's z-depth and its normal facing the camera (0, -1, 0);
+// depth 0 at and above the horizon and beyond `max_depth` metres.
+PlaneMap GroundPlaneMap(const MvsView& view, float height, float max_depth);
+
 }  // namespace colmap_lidar

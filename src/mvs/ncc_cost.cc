@@ -15,6 +15,35 @@ namespace {
 // synthetic scene most pixels it lost had a window std of 0.0033-0.004).
 constexpr float kMinVariance = 2.5e-5f;
 
+// A source plane seen at more than acos(0.1) = 84 deg from its pixel's ray is
+// nearly edge-on: its depth at a neighbouring sub-pixel position is
+// ill-conditioned, so the pixel's own depth is used there.
+constexpr float kMinPlaneRayCosine = 0.1f;
+
+// The z-depth of the source map's surface along the ray through sub-pixel
+// (x, y), whose nearest pixel (r, c) holds a valid depth: with `plane`, the
+// plane of that pixel (its point at the pixel centre, its normal, both in the
+// source camera frame) cut by the ray; else, or where the plane is seen
+// nearly edge-on, the pixel's depth.
+float SourceDepthAt(const PlaneMap& map, const MvsView& view, float x, float y,
+                    int r, int c, bool plane) {
+  const size_t index = map.Index(r, c);
+  const float depth = map.depth[index];
+  if (!plane) return depth;
+  const Eigen::Vector3f& normal = map.normal[index];
+  const Eigen::Vector3f ray = view.Ray(y, x);
+  const float normal_dot_ray = normal.dot(ray);
+  if (!(std::abs(normal_dot_ray) >=
+        kMinPlaneRayCosine * normal.norm() * ray.norm())) {
+    return depth;
+  }
+  const float plane_depth =
+      depth * normal.dot(view.Ray(static_cast<float>(r),
+                                  static_cast<float>(c))) /
+      normal_dot_ray;
+  return plane_depth > 0 ? plane_depth : depth;
+}
+
 }  // namespace
 
 PatchCostComputer::PatchCostComputer(const MvsView& ref,
@@ -27,7 +56,8 @@ PatchCostComputer::PatchCostComputer(const MvsView& ref,
       geom_regularizer_(static_cast<float>(options.geom_consistency_regularizer)),
       geom_max_cost_(static_cast<float>(options.geom_consistency_max_cost)),
       best_views_fraction_(options.best_views_fraction),
-      visible_sources_only_(options.visible_sources_only) {
+      visible_sources_only_(options.visible_sources_only),
+      source_plane_depth_(options.source_plane_depth) {
   THROW_CHECK(!srcs.empty(), "view " << ref.name << " has no source views");
   const Eigen::Matrix3f R_ref_t = ref.R.transpose();
   for (const MvsView* src : srcs) {
@@ -180,6 +210,25 @@ bool PatchCostComputer::SourceSees(int src, int row, int col,
          y < view.height - 0.5f;
 }
 
+float PatchCostComputer::DepthErrorParallax(int src, int row, int col,
+                                            float depth, float relative) const {
+  const SourceGeometry& geometry = srcs_[src];
+  const Eigen::Vector3f point_in_src =
+      geometry.R * (depth * ref_.Ray(row, col)) + geometry.t;
+  if (!(point_in_src.z() > 0)) {
+    return 0.0f;
+  }
+  const Eigen::Vector3f moved_in_ref =
+      geometry.R.transpose() * ((1.0f + relative) * point_in_src - geometry.t);
+  if (!(moved_in_ref.z() > 0)) {
+    return 0.0f;
+  }
+  const Eigen::Vector3f moved = ref_.K * moved_in_ref;
+  const float du = moved.x() / moved.z() - col;
+  const float dv = moved.y() / moved.z() - row;
+  return std::sqrt(du * du + dv * dv);
+}
+
 float PatchCostComputer::ReprojectionError(int src, int row, int col,
                                            float depth) const {
   const PlaneMap* map = src_maps_.empty() ? nullptr : src_maps_[src];
@@ -201,10 +250,11 @@ float PatchCostComputer::ReprojectionError(int src, int row, int col,
   if (c < 0 || r < 0 || c >= map->width || r >= map->height) {
     return std::numeric_limits<float>::infinity();
   }
-  const float src_depth = map->depth[map->Index(r, c)];
-  if (!(src_depth > 0)) {
+  if (!(map->depth[map->Index(r, c)] > 0)) {
     return std::numeric_limits<float>::infinity();
   }
+  const float src_depth =
+      SourceDepthAt(*map, view, x, y, r, c, source_plane_depth_);
   const Eigen::Vector3f back_in_src = src_depth * view.Ray(y, x);
   const Eigen::Vector3f back_in_ref =
       geometry.R.transpose() * (back_in_src - geometry.t);
@@ -230,15 +280,18 @@ float PatchCostComputer::SourceDepthError(int src, int row, int col,
     return std::numeric_limits<float>::infinity();
   }
   const Eigen::Vector3f projection = geometry.view->K * point_in_src;
-  const int c = static_cast<int>(std::lround(projection.x() / projection.z()));
-  const int r = static_cast<int>(std::lround(projection.y() / projection.z()));
+  const float x = projection.x() / projection.z();
+  const float y = projection.y() / projection.z();
+  const int c = static_cast<int>(std::lround(x));
+  const int r = static_cast<int>(std::lround(y));
   if (c < 0 || r < 0 || c >= map->width || r >= map->height) {
     return std::numeric_limits<float>::infinity();
   }
-  const float src_depth = map->depth[map->Index(r, c)];
-  if (!(src_depth > 0)) {
+  if (!(map->depth[map->Index(r, c)] > 0)) {
     return std::numeric_limits<float>::infinity();
   }
+  const float src_depth =
+      SourceDepthAt(*map, *geometry.view, x, y, r, c, source_plane_depth_);
   return std::abs(src_depth - point_in_src.z()) / point_in_src.z();
 }
 

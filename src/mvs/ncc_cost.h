@@ -63,11 +63,21 @@ class PatchCostComputer {
                         const Eigen::Vector3f& normal) const;
   // Forward-backward reprojection error (pixels) of pixel (row, col) at
   // `depth` through source `src`'s depth map; infinity when the point leaves
-  // the source image or hits an invalid source pixel.
+  // the source image or hits an invalid source pixel. With
+  // source_plane_depth the source's depth at the sub-pixel projection comes
+  // from its nearest pixel's plane (so also in SourceDepthError).
   float ReprojectionError(int src, int row, int col, float depth) const;
   // Relative depth difference between the hypothesis seen from the source
   // and the source map at the projection; infinity as above.
   float SourceDepthError(int src, int row, int col, float depth) const;
+
+  // Pixels by which the projection of pixel (row, col) at `depth` moves in
+  // the reference image when its point moves along source `src`'s ray by
+  // `relative` of its depth there: the reprojection error that a source depth
+  // off by that much causes. 0 along the baseline, growing with the
+  // triangulation angle; 0 for a point behind either camera.
+  float DepthErrorParallax(int src, int row, int col, float depth,
+                           float relative) const;
 
   // Whether the point of pixel (row, col) at `depth` lies in front of source
   // `src` and projects inside its image.
@@ -101,6 +111,7 @@ class PatchCostComputer {
   float geom_max_cost_;
   double best_views_fraction_;
   bool visible_sources_only_;
+  bool source_plane_depth_;
 };
 
 }  // namespace colmap_lidar

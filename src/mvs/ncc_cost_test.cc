@@ -1,5 +1,7 @@
 #include "src/mvs/ncc_cost.h"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "src/mvs/mvs_test_scene.h"
@@ -71,6 +73,86 @@ TEST(NccCost, TexturelessWindowsAndOutOfViewCostTheMaximum) {
   RefPatch patch;
   cost.PrepareRefPatch(15, 20, &patch);
   EXPECT_EQ(cost.Cost(patch, 3.0f, Eigen::Vector3f(0, 0, -1)), kMaxCost);
+}
+
+// Ground 1.5 m below two cameras looking along it, the source 2 m behind the
+// reference; the source map holds the ground's exact depth and normal at its
+// pixel centres. A reference pixel at its true depth projects between the
+// source's pixel centres: read at the sub-pixel projection from the nearest
+// pixel's plane, the source agrees exactly; the nearest pixel's own depth is
+// off by up to half a pixel of a steep depth gradient.
+TEST(NccCost, SourceDepthFromThePlaneAtTheSubPixelProjection) {
+  const int width = 160, height = 120;
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  const float ground_y = 1.5f;
+  const Rigid3d ref_pose;  // cam_from_world = identity.
+  const Rigid3d src_pose(Eigen::Quaterniond::Identity(),
+                         Eigen::Vector3d(0.0, 0.0, 2.0));  // 2 m behind.
+  const std::vector<float> gray(width * height, 0.5f);
+  const MvsView ref = MakeMvsView("ref", K, ref_pose, width, height, gray);
+  const MvsView src = MakeMvsView("src", K, src_pose, width, height, gray);
+  const PlaneMap src_map = GroundPlaneMap(src, ground_y, 30.0f);
+  const auto errors = [&](bool plane_depth, float* max_depth_error,
+                          float* max_reprojection_error) {
+    LidarPatchMatchOptions options;
+    options.source_plane_depth = plane_depth;
+    PatchCostComputer cost(ref, {&src}, options);
+    cost.SetSourceMaps({&src_map});
+    *max_depth_error = 0.0f;
+    *max_reprojection_error = 0.0f;
+    int num_checked = 0;
+    // Reference ground pixels 2.5-9 m ahead (4.5-11 m from the source).
+    for (int row = 0; row < height; ++row) {
+      for (int col = 0; col < width; ++col) {
+        const Eigen::Vector3f ray = ref.Ray(static_cast<float>(row),
+                                            static_cast<float>(col));
+        if (ray.y() < ground_y / 9.0f || ray.y() > ground_y / 2.5f) continue;
+        const float depth = ground_y / ray.y();
+        if (!cost.SourceSees(0, row, col, depth)) continue;
+        *max_depth_error = std::max(*max_depth_error,
+                                    cost.SourceDepthError(0, row, col, depth));
+        *max_reprojection_error =
+            std::max(*max_reprojection_error,
+                     cost.ReprojectionError(0, row, col, depth));
+        ++num_checked;
+      }
+    }
+    return num_checked;
+  };
+  float plane_depth_error, plane_reprojection_error;
+  ASSERT_GT(errors(true, &plane_depth_error, &plane_reprojection_error), 1000);
+  EXPECT_LT(plane_depth_error, 1e-4f);
+  EXPECT_LT(plane_reprojection_error, 0.01f);
+  float pixel_depth_error, pixel_reprojection_error;
+  errors(false, &pixel_depth_error, &pixel_reprojection_error);
+  // Nearest-pixel depth: more than the filter's 1 % at the far end.
+  EXPECT_GT(pixel_depth_error, 0.01f);
+  EXPECT_GT(pixel_reprojection_error, 0.3f);
+
+  // A source map 1 % too deep: the reprojection error is the parallax of a
+  // 1 % depth step, 0 on the baseline (the optical axis) and growing with
+  // the triangulation angle.
+  PlaneMap deeper = src_map;
+  for (float& depth : deeper.depth) depth *= 1.01f;
+  LidarPatchMatchOptions options;
+  PatchCostComputer cost(ref, {&src}, options);
+  cost.SetSourceMaps({&deeper});
+  EXPECT_LT(cost.DepthErrorParallax(0, height / 2, width / 2, 5.0f, 0.01f),
+            1e-4f);
+  float max_parallax = 0.0f;
+  for (int row = height / 2 + 10; row < height; row += 7) {
+    for (int col = 0; col < width; col += 7) {
+      const float depth =
+          ground_y / ref.Ray(static_cast<float>(row), static_cast<float>(col)).y();
+      if (!cost.SourceSees(0, row, col, depth)) continue;
+      const float parallax = cost.DepthErrorParallax(0, row, col, depth, 0.01f);
+      EXPECT_NEAR(cost.ReprojectionError(0, row, col, depth), parallax,
+                  0.02f + 0.02f * parallax)
+          << row << " " << col;
+      max_parallax = std::max(max_parallax, parallax);
+    }
+  }
+  EXPECT_GT(max_parallax, 0.3f);
 }
 
 }  // namespace

@@ -220,7 +220,8 @@ std::string RunPatchMatchStage(const PipelineContext& context) {
        << summary.num_photometric_skipped << " skipped as done, "
        << summary.num_without_sources << " without source views";
   if (summary.support.Total() > 0) {
-    note << "; geometric " << summary.support.Format();
+    note << "; geometric " << summary.support.Format() << "; "
+         << summary.num_not_fused << " kept out of fusion";
   }
   return note.str();
 }
@@ -256,8 +257,8 @@ std::string RunFusionStage(const PipelineContext& context) {
                           : options.num_threads)},
       {"StereoFusion.min_num_pixels",
        std::to_string(options.fusion_min_num_pixels)}};
-  // The geometric pixels that only one view and the LIDAR confirmed stay
-  // out of the cloud (lidar_patch_match_stereo.h).
+  // The geometric pixels that only the LIDAR's vote or the parallax
+  // tolerance kept stay out of the cloud (lidar_patch_match_stereo.h).
   const std::string mask_dir = FusionMaskDir(paths.dense);
   if (options.fusion_input_type == "geometric" && ExistsDir(mask_dir)) {
     fusion_options.emplace_back("StereoFusion.mask_path", mask_dir);
