@@ -174,43 +174,38 @@ def depth(run, key):
     return value
 
 
+def patch_match_note(run):
+    """The patch_match stage record's note ("" when there is none)."""
+    records = load_json(f"{run}/ws/pipeline/stages.json")
+    for record in (records or {}).get("stages", []):
+        if record["stage"] == "patch_match":
+            return record.get("note", "")
+    return ""
+
+
 def depth_support(run, what):
     """Share (0-1) of the geometric pixels by what confirmed them, from the
     patch_match stage record's note (colmap-lidar's DepthSupportCounts:
     "... N pixels: a % images only, b % images and LIDAR, c % need the LIDAR
     (d % the LIDAR alone)")."""
-    records = load_json(f"{run}/ws/pipeline/stages.json")
-    if not records:
+    match = re.search(r"pixels: ([\d.]+) % images only, ([\d.]+) % images and "
+                      r"LIDAR, ([\d.]+) % need the LIDAR \(([\d.]+) % the LIDAR alone\)",
+                      patch_match_note(run))
+    if not match:
         return None
-    for record in records.get("stages", []):
-        if record["stage"] != "patch_match":
-            continue
-        match = re.search(r"pixels: ([\d.]+) % images only, ([\d.]+) % images and "
-                          r"LIDAR, ([\d.]+) % need the LIDAR \(([\d.]+) % the LIDAR alone\)",
-                          record.get("note", ""))
-        if not match:
-            return None
-        index = {"images_only": 1, "both": 2, "need_lidar": 3, "lidar_only": 4}[what]
-        return float(match.group(index)) / 100.0
-    return None
+    index = {"images_only": 1, "both": 2, "need_lidar": 3, "lidar_only": 4}[what]
+    return float(match.group(index)) / 100.0
 
 
 def depth_not_fused(run):
     """Share (0-1) of the geometric pixels kept out of fusion (the LIDAR's
     vote or the parallax tolerance alone kept them), from the patch_match
     stage record's note ("geometric N pixels: ...; M kept out of fusion")."""
-    records = load_json(f"{run}/ws/pipeline/stages.json")
-    if not records:
+    match = re.search(r"geometric (\d+) pixels:.*; (\d+) kept out of fusion",
+                      patch_match_note(run))
+    if not match or int(match.group(1)) == 0:
         return None
-    for record in records.get("stages", []):
-        if record["stage"] != "patch_match":
-            continue
-        match = re.search(r"geometric (\d+) pixels:.*; (\d+) kept out of fusion",
-                          record.get("note", ""))
-        if not match or int(match.group(1)) == 0:
-            return None
-        return int(match.group(2)) / int(match.group(1))
-    return None
+    return int(match.group(2)) / int(match.group(1))
 
 
 def mesh(run, name, threshold, field="fscore"):

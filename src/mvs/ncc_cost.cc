@@ -229,33 +229,40 @@ float PatchCostComputer::DepthErrorParallax(int src, int row, int col,
   return std::sqrt(du * du + dv * dv);
 }
 
-float PatchCostComputer::ReprojectionError(int src, int row, int col,
-                                           float depth) const {
+std::optional<PatchCostComputer::SourceSurfacePoint>
+PatchCostComputer::SourceSurface(int src, int row, int col, float depth) const {
   const PlaneMap* map = src_maps_.empty() ? nullptr : src_maps_[src];
   if (map == nullptr) {
-    return std::numeric_limits<float>::infinity();
+    return std::nullopt;
   }
   const SourceGeometry& geometry = srcs_[src];
-  const MvsView& view = *geometry.view;
-  const Eigen::Vector3f point_in_ref = depth * ref_.Ray(row, col);
-  const Eigen::Vector3f point_in_src = geometry.R * point_in_ref + geometry.t;
-  if (point_in_src.z() <= 0) {
-    return std::numeric_limits<float>::infinity();
+  SourceSurfacePoint hit;
+  hit.point_in_src = geometry.R * (depth * ref_.Ray(row, col)) + geometry.t;
+  if (hit.point_in_src.z() <= 0) {
+    return std::nullopt;
   }
-  const Eigen::Vector3f projection = view.K * point_in_src;
-  const float x = projection.x() / projection.z();
-  const float y = projection.y() / projection.z();
-  const int c = static_cast<int>(std::lround(x));
-  const int r = static_cast<int>(std::lround(y));
-  if (c < 0 || r < 0 || c >= map->width || r >= map->height) {
-    return std::numeric_limits<float>::infinity();
+  const Eigen::Vector3f homogeneous = geometry.view->K * hit.point_in_src;
+  hit.projection = homogeneous.head<2>() / homogeneous.z();
+  const int c = static_cast<int>(std::lround(hit.projection.x()));
+  const int r = static_cast<int>(std::lround(hit.projection.y()));
+  if (c < 0 || r < 0 || c >= map->width || r >= map->height ||
+      !(map->depth[map->Index(r, c)] > 0)) {
+    return std::nullopt;
   }
-  if (!(map->depth[map->Index(r, c)] > 0)) {
-    return std::numeric_limits<float>::infinity();
-  }
-  const float src_depth =
-      SourceDepthAt(*map, view, x, y, r, c, source_plane_depth_);
-  const Eigen::Vector3f back_in_src = src_depth * view.Ray(y, x);
+  hit.src_depth = SourceDepthAt(*map, *geometry.view, hit.projection.x(),
+                                hit.projection.y(), r, c, source_plane_depth_);
+  return hit;
+}
+
+float PatchCostComputer::ReprojectionError(int src, int row, int col,
+                                           float depth) const {
+  const std::optional<SourceSurfacePoint> hit =
+      SourceSurface(src, row, col, depth);
+  if (!hit) return std::numeric_limits<float>::infinity();
+  const SourceGeometry& geometry = srcs_[src];
+  const Eigen::Vector3f back_in_src =
+      hit->src_depth *
+      geometry.view->Ray(hit->projection.y(), hit->projection.x());
   const Eigen::Vector3f back_in_ref =
       geometry.R.transpose() * (back_in_src - geometry.t);
   if (back_in_ref.z() <= 0) {
@@ -269,30 +276,11 @@ float PatchCostComputer::ReprojectionError(int src, int row, int col,
 
 float PatchCostComputer::SourceDepthError(int src, int row, int col,
                                           float depth) const {
-  const PlaneMap* map = src_maps_.empty() ? nullptr : src_maps_[src];
-  if (map == nullptr) {
-    return std::numeric_limits<float>::infinity();
-  }
-  const SourceGeometry& geometry = srcs_[src];
-  const Eigen::Vector3f point_in_src =
-      geometry.R * (depth * ref_.Ray(row, col)) + geometry.t;
-  if (point_in_src.z() <= 0) {
-    return std::numeric_limits<float>::infinity();
-  }
-  const Eigen::Vector3f projection = geometry.view->K * point_in_src;
-  const float x = projection.x() / projection.z();
-  const float y = projection.y() / projection.z();
-  const int c = static_cast<int>(std::lround(x));
-  const int r = static_cast<int>(std::lround(y));
-  if (c < 0 || r < 0 || c >= map->width || r >= map->height) {
-    return std::numeric_limits<float>::infinity();
-  }
-  if (!(map->depth[map->Index(r, c)] > 0)) {
-    return std::numeric_limits<float>::infinity();
-  }
-  const float src_depth =
-      SourceDepthAt(*map, *geometry.view, x, y, r, c, source_plane_depth_);
-  return std::abs(src_depth - point_in_src.z()) / point_in_src.z();
+  const std::optional<SourceSurfacePoint> hit =
+      SourceSurface(src, row, col, depth);
+  if (!hit) return std::numeric_limits<float>::infinity();
+  return std::abs(hit->src_depth - hit->point_in_src.z()) /
+         hit->point_in_src.z();
 }
 
 float PatchCostComputer::Cost(const RefPatch& patch, float depth,

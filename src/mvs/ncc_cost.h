@@ -18,6 +18,7 @@
 // window (standard deviation < 0.005) costs kMaxCost.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -100,6 +101,19 @@ class PatchCostComputer {
     Eigen::Matrix3f A;
     Eigen::Vector3f b;
   };
+
+  // Pixel (row, col) at `depth` seen from a source: its point in the
+  // source's frame, its sub-pixel projection and the source map's depth
+  // there (SourceDepthAt in ncc_cost.cc).
+  struct SourceSurfacePoint {
+    Eigen::Vector3f point_in_src;
+    Eigen::Vector2f projection;
+    float src_depth = 0.0f;
+  };
+  // nullopt without a source map, behind the source, outside its image or
+  // on an invalid source pixel.
+  std::optional<SourceSurfacePoint> SourceSurface(int src, int row, int col,
+                                                  float depth) const;
 
   const MvsView& ref_;
   std::vector<SourceGeometry> srcs_;
