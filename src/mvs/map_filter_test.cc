@@ -14,32 +14,21 @@ namespace {
 // to its side, both looking along the ground; the reference map is exact,
 // the source map `scale` times too deep everywhere.
 struct GroundPair {
-  static constexpr int kWidth = 320;
-  static constexpr int kHeight = 240;
   static constexpr float kHeightM = 1.5f;
-  MvsView ref;
-  MvsView src;
+  GroundViewPair views;
   PlaneMap ref_map;
-  PlaneMap src_map;
 
-  explicit GroundPair(float scale) {
-    const Eigen::Matrix3d K = TestCalibration(kWidth, kHeight);
-    const std::vector<float> gray(kWidth * kHeight, 0.5f);
-    ref = MakeMvsView("ref", K, Rigid3d(), kWidth, kHeight, gray);
-    src = MakeMvsView("src", K,
-                      Rigid3d(Eigen::Quaterniond::Identity(),
-                              Eigen::Vector3d(-1.0, 0.0, 2.0)),
-                      kWidth, kHeight, gray);
-    ref_map = GroundPlaneMap(ref, kHeightM, 12.0f);
-    src_map = GroundPlaneMap(src, kHeightM, 30.0f);
-    for (float& depth : src_map.depth) depth *= scale;
+  explicit GroundPair(float scale)
+      : views(320, 240, kHeightM, Eigen::Vector3d(1.0, 0.0, -2.0)),
+        ref_map(GroundPlaneMap(views.ref, kHeightM, 12.0f)) {
+    for (float& depth : views.src_map.depth) depth *= scale;
   }
 
   // Filters a copy of the reference map; returns the pixels kept.
   size_t Filter(const LidarPatchMatchOptions& options,
                 std::vector<uint8_t>* not_fused) const {
-    PatchCostComputer cost(ref, {&src}, options);
-    cost.SetSourceMaps({&src_map});
+    PatchCostComputer cost(views.ref, {&views.src}, options);
+    cost.SetSourceMaps({&views.src_map});
     PlaneMap map = ref_map;
     return FilterByConsistency(cost, options, {}, &map, not_fused);
   }

@@ -207,4 +207,15 @@ PlaneMap GroundPlaneMap(const MvsView& view, float height, float max_depth) {
   return map;
 }
 
+GroundViewPair::GroundViewPair(int width, int height, float ground_height,
+                               const Eigen::Vector3d& src_center) {
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  const std::vector<float> gray(static_cast<size_t>(width) * height, 0.5f);
+  ref = MakeMvsView("ref", K, Rigid3d(), width, height, gray);
+  src = MakeMvsView("src", K,
+                    Rigid3d(Eigen::Quaterniond::Identity(), -src_center),
+                    width, height, gray);
+  src_map = GroundPlaneMap(src, ground_height, 30.0f);
+}
+
 }  // namespace colmap_lidar

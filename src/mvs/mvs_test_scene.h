@@ -75,4 +75,17 @@ double ShareWithinTolerance(const std::vector<float>& depth,
 // depth 0 at and above the horizon and beyond `max_depth` metres.
 PlaneMap GroundPlaneMap(const MvsView& view, float height, float max_depth);
 
+// Two cameras `ground_height` metres above a level ground, both looking
+// along it (rotation identity, flat grey images, TestCalibration): the
+// reference at the world origin, the source at `src_center` (world = the
+// reference's frame); `src_map` is the source's exact GroundPlaneMap up to
+// 30 m.
+struct GroundViewPair {
+  GroundViewPair(int width, int height, float ground_height,
+                 const Eigen::Vector3d& src_center);
+  MvsView ref;
+  MvsView src;
+  PlaneMap src_map;
+};
+
 }  // namespace colmap_lidar

@@ -83,15 +83,13 @@ TEST(NccCost, TexturelessWindowsAndOutOfViewCostTheMaximum) {
 // off by up to half a pixel of a steep depth gradient.
 TEST(NccCost, SourceDepthFromThePlaneAtTheSubPixelProjection) {
   const int width = 160, height = 120;
-  const Eigen::Matrix3d K = TestCalibration(width, height);
   const float ground_y = 1.5f;
-  const Rigid3d ref_pose;  // cam_from_world = identity.
-  const Rigid3d src_pose(Eigen::Quaterniond::Identity(),
-                         Eigen::Vector3d(0.0, 0.0, 2.0));  // 2 m behind.
-  const std::vector<float> gray(width * height, 0.5f);
-  const MvsView ref = MakeMvsView("ref", K, ref_pose, width, height, gray);
-  const MvsView src = MakeMvsView("src", K, src_pose, width, height, gray);
-  const PlaneMap src_map = GroundPlaneMap(src, ground_y, 30.0f);
+  // The source 2 m behind the reference.
+  const GroundViewPair pair(width, height, ground_y,
+                            Eigen::Vector3d(0.0, 0.0, -2.0));
+  const MvsView& ref = pair.ref;
+  const MvsView& src = pair.src;
+  const PlaneMap& src_map = pair.src_map;
   const auto errors = [&](bool plane_depth, float* max_depth_error,
                           float* max_reprojection_error) {
     LidarPatchMatchOptions options;
