@@ -115,6 +115,11 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddOption(s + "lidar_prior_tolerance", &o->lidar_prior_tolerance,
                      "Relative depth deviation at which the prior term "
                      "saturates, > 0.");
+  options->AddOption(s + "lidar_prior_across_depth_edges",
+                     &o->lidar_prior_across_depth_edges,
+                     "The prior and the LIDAR's vote also hold the pixels "
+                     "that take the nearest vertex's plane in a triangle "
+                     "across a depth edge (a guess; not in the paper).");
   options->AddOption(s + "occlusion_window_radius",
                      &o->occlusion_window_radius,
                      "Neighbourhood of the LIDAR occlusion check, pixels.");
@@ -132,6 +137,11 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      "its depth exceeds this times the view's median is not "
                      "interpolated (space the LIDAR did not sample, e.g. "
                      "sky between wall tops), >= 0; 0: all are.");
+  options->AddOption(s + "init_extrapolate_planes",
+                     &o->init_extrapolate_planes,
+                     "Pixels outside the interpolated samples start from the "
+                     "nearest interpolated pixel's plane, not a random one "
+                     "(no LIDAR prior there; not in the paper).");
   options->AddOption(s + "min_depth", &o->min_depth,
                      "LIDAR and feature depths below this are ignored, "
                      "metres, > 0.");

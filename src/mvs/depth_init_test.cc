@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "src/mvs/interpolation.h"
+#include "src/mvs/lidar_patch_match_stereo.h"
 #include "src/mvs/mvs_test_scene.h"
 
 namespace colmap_lidar {
@@ -166,6 +167,114 @@ TEST(DepthInit, InterpolationDoesNotBridgeUnsampledSpace) {
   EXPECT_EQ(count_valid(bridged, 25, 55), 57u * 31u);
   options.interpolation_max_edge_factor = -1;
   EXPECT_FALSE(options.Check());
+}
+
+// A slanted wall z = 3 + 0.5 x interpolated only in the lower half of the
+// image (the LIDAR's vertical field): the upper half starts on the same
+// plane. A level ground 1.5 m below the camera, known up to 30 m: the rows
+// at and above the horizon, where its plane is edge-on or behind the
+// camera, stay empty (random), and every pixel filled lies on the ground.
+TEST(DepthInit, ExtrapolationContinuesTheNearestPlane) {
+  const int width = 80, height = 60;
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  const MvsView view = MakeMvsView("v", K, Rigid3d(), width, height,
+                                   std::vector<float>(width * height, 0.5f));
+  const Eigen::Vector3f normal = Eigen::Vector3f(0.5f, 0, -1).normalized();
+  auto wall_depth = [&](int r, int c) {
+    const Eigen::Vector3d ray = K.inverse() * Eigen::Vector3d(c, r, 1);
+    return 3.0 / (1.0 - 0.5 * ray.x());
+  };
+  PlaneMap wall(width, height);
+  for (int r = height / 2; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      wall.depth[wall.Index(r, c)] = static_cast<float>(wall_depth(r, c));
+      wall.normal[wall.Index(r, c)] = normal;
+    }
+  }
+  EXPECT_EQ(ExtrapolateToEmptyPixels(view, &wall),
+            static_cast<size_t>(width * height / 2));
+  for (int r = 0; r < height / 2; ++r) {
+    for (int c = 0; c < width; ++c) {
+      EXPECT_NEAR(wall.depth[wall.Index(r, c)], wall_depth(r, c), 1e-4)
+          << r << " " << c;
+      EXPECT_GT(wall.normal[wall.Index(r, c)].dot(normal), 0.9999f);
+    }
+  }
+
+  const float ground_height = 1.5f;
+  PlaneMap ground = GroundPlaneMap(view, ground_height, 30.0f);
+  const size_t num_known = ground.NumValid();
+  const size_t num_filled = ExtrapolateToEmptyPixels(view, &ground);
+  EXPECT_GT(num_filled, 0u);
+  EXPECT_EQ(ground.NumValid(), num_known + num_filled);
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      const Eigen::Vector3f ray =
+          view.Ray(static_cast<float>(r), static_cast<float>(c));
+      const float depth = ground.depth[ground.Index(r, c)];
+      if (!(ray.y() > 0)) {
+        EXPECT_EQ(depth, 0.0f) << r << " " << c;
+      } else if (depth > 0) {
+        EXPECT_NEAR(depth, ground_height / ray.y(), 1e-3f * depth);
+      }
+    }
+  }
+}
+
+// LIDAR samples every 6 px on a wall at z = 2 (columns < 40) and one at
+// z = 2.5 behind it (columns >= 40; a step of 25 %, more than
+// interpolation_max_depth_ratio, within the edge test's sampling ratio, as a
+// window recess's lip): the triangles across the step take their
+// nearest vertex's plane and are marked as guesses; the samples and the
+// triangles on one wall are not. InitializeReference keeps the guesses as
+// starting planes but out of the soft prior, unless
+// lidar_prior_across_depth_edges is set.
+TEST(DepthInit, GuessesAcrossADepthEdgeStayOutOfThePrior) {
+  const int width = 80, height = 60;
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  const MvsView view = MakeMvsView("v", K, Rigid3d(), width, height,
+                                   std::vector<float>(width * height, 0.5f));
+  FusedLidarCloud cloud;
+  for (int r = 0; r < height; r += 6) {
+    for (int c = 0; c < width; c += 6) {
+      const Eigen::Vector3d ray = K.inverse() * Eigen::Vector3d(c, r, 1);
+      cloud.points.push_back(((c < 40 ? 2.0 : 2.5) * ray).cast<float>());
+      cloud.normals.emplace_back(0, 0, -1);
+    }
+  }
+  LidarPatchMatchOptions options;
+  options.occlusion_relative_tolerance = 10.0;  // Keep the far wall's samples.
+  const std::vector<DepthSample> samples =
+      ProjectLidarSamples(view, cloud.points, cloud.normals, options);
+  ASSERT_EQ(samples.size(), cloud.points.size());
+  std::vector<uint8_t> guessed;
+  const PlaneMap map = InterpolateSamples(view, samples, options, &guessed);
+  ASSERT_EQ(guessed.size(), map.depth.size());
+  size_t num_guessed = 0;
+  for (int r = 0; r <= 54; ++r) {
+    for (int c = 0; c <= 78; ++c) {
+      const size_t i = map.Index(r, c);
+      ASSERT_GT(map.depth[i], 0) << r << " " << c;
+      if (c < 36 || c > 42) {  // Off the step triangles and their edges.
+        EXPECT_EQ(guessed[i], 0) << r << " " << c;
+        EXPECT_NEAR(map.depth[i], c < 36 ? 2.0 : 2.5, 1e-3);
+      }
+      num_guessed += guessed[i];
+    }
+  }
+  EXPECT_GT(num_guessed, 55u * 4u);
+  for (const DepthSample& sample : samples) {
+    EXPECT_EQ(guessed[map.Index(sample.row, sample.col)], 0);
+  }
+
+  const ReferenceInit init = InitializeReference(view, {}, &cloud, options);
+  options.lidar_prior_across_depth_edges = true;
+  const ReferenceInit held = InitializeReference(view, {}, &cloud, options);
+  for (size_t i = 0; i < guessed.size(); ++i) {
+    EXPECT_EQ(init.state.depth[i], map.depth[i]);  // Same starting planes.
+    EXPECT_EQ(held.prior_depth[i], map.depth[i]);
+    EXPECT_EQ(init.prior_depth[i], guessed[i] ? 0.0f : map.depth[i]);
+  }
 }
 
 }  // namespace

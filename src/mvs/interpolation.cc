@@ -11,8 +11,12 @@ namespace colmap_lidar {
 
 PlaneMap InterpolateSamples(const MvsView& view,
                             const std::vector<DepthSample>& samples,
-                            const LidarPatchMatchOptions& options) {
+                            const LidarPatchMatchOptions& options,
+                            std::vector<uint8_t>* across_depth_edge) {
   PlaneMap map(view.width, view.height);
+  if (across_depth_edge != nullptr) {
+    across_depth_edge->assign(map.depth.size(), 0);
+  }
   if (samples.empty()) {
     return map;
   }
@@ -128,6 +132,7 @@ PlaneMap InterpolateSamples(const MvsView& view,
           }
           map.depth[i] = depth;
           map.normal[i] = nearest.normal;
+          if (across_depth_edge != nullptr) (*across_depth_edge)[i] = 1;
         }
       }
     }
@@ -137,8 +142,64 @@ PlaneMap InterpolateSamples(const MvsView& view,
     const size_t i = map.Index(sample.row, sample.col);
     map.depth[i] = sample.depth;
     map.normal[i] = sample.normal;
+    if (across_depth_edge != nullptr) (*across_depth_edge)[i] = 0;
   }
   return map;
+}
+
+size_t ExtrapolateToEmptyPixels(const MvsView& view, PlaneMap* map) {
+  cv::Mat empty(map->height, map->width, CV_8U);
+  size_t num_empty = 0;
+  for (int row = 0; row < map->height; ++row) {
+    for (int col = 0; col < map->width; ++col) {
+      const bool is_empty = !(map->depth[map->Index(row, col)] > 0);
+      empty.at<uint8_t>(row, col) = is_empty ? 255 : 0;
+      num_empty += is_empty;
+    }
+  }
+  if (num_empty == 0 || num_empty == map->depth.size()) return 0;
+  // Labels of the nearest non-empty pixel (one label per such pixel).
+  cv::Mat distance;
+  cv::Mat labels;
+  cv::distanceTransform(empty, distance, labels, cv::DIST_L2, cv::DIST_MASK_5,
+                        cv::DIST_LABEL_PIXEL);
+  std::unordered_map<int, size_t> label_to_index;
+  for (int row = 0; row < map->height; ++row) {
+    for (int col = 0; col < map->width; ++col) {
+      if (empty.at<uint8_t>(row, col) == 0) {
+        label_to_index[labels.at<int>(row, col)] = map->Index(row, col);
+      }
+    }
+  }
+  const PlaneMap source = *map;
+  size_t num_filled = 0;
+  for (int row = 0; row < map->height; ++row) {
+    for (int col = 0; col < map->width; ++col) {
+      if (empty.at<uint8_t>(row, col) == 0) continue;
+      const auto it = label_to_index.find(labels.at<int>(row, col));
+      if (it == label_to_index.end()) continue;
+      const size_t j = it->second;
+      const int nearest_row = static_cast<int>(j / map->width);
+      const int nearest_col = static_cast<int>(j % map->width);
+      const Eigen::Vector3f& normal = source.normal[j];
+      const Eigen::Vector3f ray =
+          view.Ray(static_cast<float>(row), static_cast<float>(col));
+      const float denominator = normal.dot(ray);
+      if (!(denominator < -1e-3f)) continue;
+      const Eigen::Vector3f point =
+          source.depth[j] * view.Ray(static_cast<float>(nearest_row),
+                                     static_cast<float>(nearest_col));
+      const float depth = normal.dot(point) / denominator;
+      if (!(depth >= 0.5f * source.depth[j] && depth <= 2.0f * source.depth[j])) {
+        continue;
+      }
+      const size_t i = map->Index(row, col);
+      map->depth[i] = depth;
+      map->normal[i] = normal;
+      ++num_filled;
+    }
+  }
+  return num_filled;
 }
 
 }  // namespace colmap_lidar

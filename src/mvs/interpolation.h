@@ -15,6 +15,7 @@
 // pixels at that invented depth (a lid in the mesh).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "src/mvs/depth_init.h"
@@ -24,9 +25,25 @@
 
 namespace colmap_lidar {
 
-// Returns a map of the view's size; cost is 0.
+// Returns a map of the view's size; cost is 0. `across_depth_edge`
+// (optional) receives per pixel 1 where the depth is the nearest vertex's
+// plane of a triangle across a depth edge (a guess: where the edge lies
+// between the vertices is unknown), else 0.
 PlaneMap InterpolateSamples(const MvsView& view,
                             const std::vector<DepthSample>& samples,
-                            const LidarPatchMatchOptions& options);
+                            const LidarPatchMatchOptions& options,
+                            std::vector<uint8_t>* across_depth_edge = nullptr);
+
+// Gives every pixel without a hypothesis the plane of the nearest pixel that
+// has one (Euclidean distance in the image), intersected with its ray: a
+// wall the LIDAR sampled only up to the top of its vertical field starts
+// PatchMatch on that wall's plane above it, instead of on random planes
+// that propagation reaches only a few strips per iteration. Where the
+// intersection is behind the camera or beyond [0.5, 2] times the nearest
+// pixel's depth (the plane seen nearly edge-on), the pixel stays empty
+// (random). These are starting hypotheses only: the caller keeps them out
+// of the soft LIDAR prior, so the photometric cost alone accepts or
+// replaces them. Returns the number of pixels filled.
+size_t ExtrapolateToEmptyPixels(const MvsView& view, PlaneMap* map);
 
 }  // namespace colmap_lidar

@@ -220,8 +220,14 @@ ReferenceInit InitializeReference(
   if (options.RandomInit()) {
     init.state = PlaneMap(ref.width, ref.height);
   } else {
-    init.state = InterpolateSamples(ref, samples, options);
+    std::vector<uint8_t> across_depth_edge;
+    init.state = InterpolateSamples(ref, samples, options, &across_depth_edge);
     init.prior_depth = DensePriorDepth(init.state);
+    if (!options.lidar_prior_across_depth_edges) {
+      for (size_t i = 0; i < across_depth_edge.size(); ++i) {
+        if (across_depth_edge[i]) init.prior_depth[i] = 0.0f;
+      }
+    }
   }
   return init;
 }
@@ -301,6 +307,11 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
     for (int s : job.srcs) srcs.push_back(&cache.View(s));
     ReferenceInit init = InitializeReference(
         ref, FeaturesOf(model, image), have_lidar ? &lidar : nullptr, options);
+    size_t num_extrapolated = 0;
+    if (!init.prior_depth.empty() && options.init_extrapolate_planes) {
+      // After the prior is taken: the extrapolated planes carry none.
+      num_extrapolated = ExtrapolateToEmptyPixels(ref, &init.state);
+    }
     const PatchCostComputer cost(ref, srcs, options);
     PatchMatchProblem problem;
     problem.cost = &cost;
@@ -319,6 +330,7 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
               << init.stats.num_lidar_zbuffer - init.stats.num_lidar_occluded
               << " LIDAR samples (" << init.stats.num_lidar_occluded
               << " occluded), " << init.stats.num_features << " features, "
+              << num_extrapolated << " pixels started on an extrapolated plane, "
               << kept << " valid pixels, " << Seconds(image_start) << " s";
   }
   // Geometric pass.

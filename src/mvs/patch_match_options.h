@@ -78,6 +78,12 @@ struct LidarPatchMatchOptions {
   // than 1 to leave the LIDAR plane by more than the tolerance.
   double lidar_prior_weight = 1.0;
   double lidar_prior_tolerance = 0.02;
+  // The prior (and the LIDAR's vote in the geometric filter) also holds the
+  // pixels of an interpolation triangle across a depth edge, which take the
+  // nearest vertex's plane: a guess of where the edge lies. Off: those
+  // pixels start from the guess but the photometry alone decides (a tree's
+  // leaves and the wall behind them, a window recess's lip).
+  bool lidar_prior_across_depth_edges = false;
 
   // Initialisation: LIDAR samples are dropped unless their depth is at most
   // (1 + occlusion_relative_tolerance) x the mean depth of the samples within
@@ -94,6 +100,13 @@ struct LidarPatchMatchOptions {
   // did not sample (sky between two wall tops, a gap between buildings), not
   // a surface. >= 0; 0 interpolates every triangle.
   double interpolation_max_edge_factor = 5.0;
+  // Pixels the interpolation leaves empty (outside the samples' hull: a
+  // wall above the LIDAR's vertical field, the ground below it) start from
+  // the plane of the nearest interpolated pixel instead of a random plane
+  // (ExtrapolateToEmptyPixels). Starting hypotheses only: they carry no
+  // LIDAR prior. Not in the paper (Li et al. and COLMAP start them
+  // randomly).
+  bool init_extrapolate_planes = true;
   // LIDAR points nearer than this to the camera are ignored, metres.
   double min_depth = 0.1;
 
