@@ -190,7 +190,8 @@ size_t ExtrapolateToEmptyPixels(const MvsView& view, PlaneMap* map) {
           source.depth[j] * view.Ray(static_cast<float>(nearest_row),
                                      static_cast<float>(nearest_col));
       const float depth = normal.dot(point) / denominator;
-      if (!(depth >= 0.5f * source.depth[j] && depth <= 2.0f * source.depth[j])) {
+      const float nearest_depth = source.depth[j];
+      if (!(depth >= 0.5f * nearest_depth && depth <= 2.0f * nearest_depth)) {
         continue;
       }
       const size_t i = map->Index(row, col);

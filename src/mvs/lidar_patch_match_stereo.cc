@@ -330,7 +330,8 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
               << init.stats.num_lidar_zbuffer - init.stats.num_lidar_occluded
               << " LIDAR samples (" << init.stats.num_lidar_occluded
               << " occluded), " << init.stats.num_features << " features, "
-              << num_extrapolated << " pixels started on an extrapolated plane, "
+              << num_extrapolated
+              << " pixels started on an extrapolated plane, "
               << kept << " valid pixels, " << Seconds(image_start) << " s";
   }
   // Geometric pass.
