@@ -5,7 +5,8 @@
 // barycentrically, unless the vertex depths differ by more than
 // interpolation_max_depth_ratio, in which case each pixel takes the plane of
 // its nearest vertex so that depth edges are not smeared. Pixels outside
-// the convex hull stay invalid (depth 0): PatchMatch starts them randomly.
+// the convex hull stay invalid (depth 0): PatchMatch starts them randomly,
+// or ExtrapolateToEmptyPixels gives them the nearest interpolated plane.
 // So do the pixels of a triangle of three LIDAR samples that spans space the
 // LIDAR did not sample: its longest 3D edge over its mean depth (the angle
 // it subtends) exceeds interpolation_max_edge_factor times the median of
