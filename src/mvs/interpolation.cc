@@ -8,6 +8,22 @@
 #include <opencv2/imgproc.hpp>
 
 namespace colmap_lidar {
+namespace {
+
+// The z-depth at which `ray` (z = 1) meets the plane through `point` (the
+// point of a pixel at `point_depth`) with `normal`; 0 where the plane is
+// seen nearly edge-on or the depth leaves [0.5, 2] x point_depth.
+float PlaneDepthAlongRay(const Eigen::Vector3f& normal,
+                         const Eigen::Vector3f& point, float point_depth,
+                         const Eigen::Vector3f& ray) {
+  const float denominator = normal.dot(ray);
+  if (!(denominator < -1e-3f)) return 0.0f;
+  const float depth = normal.dot(point) / denominator;
+  return depth >= 0.5f * point_depth && depth <= 2.0f * point_depth ? depth
+                                                                    : 0.0f;
+}
+
+}  // namespace
 
 PlaneMap InterpolateSamples(const MvsView& view,
                             const std::vector<DepthSample>& samples,
@@ -122,15 +138,9 @@ PlaneMap InterpolateSamples(const MvsView& view,
           const Eigen::Vector3f point =
               nearest.depth * view.Ray(static_cast<float>(nearest.row),
                                        static_cast<float>(nearest.col));
-          const float denominator = nearest.normal.dot(ray);
-          float depth = denominator < -1e-3f
-                            ? nearest.normal.dot(point) / denominator
-                            : nearest.depth;
-          if (!(depth > 0) || depth > 2.0f * nearest.depth ||
-              depth < 0.5f * nearest.depth) {
-            depth = nearest.depth;
-          }
-          map.depth[i] = depth;
+          const float depth =
+              PlaneDepthAlongRay(nearest.normal, point, nearest.depth, ray);
+          map.depth[i] = depth > 0 ? depth : nearest.depth;
           map.normal[i] = nearest.normal;
           if (across_depth_edge != nullptr) (*across_depth_edge)[i] = 1;
         }
@@ -171,7 +181,7 @@ size_t ExtrapolateToEmptyPixels(const MvsView& view, PlaneMap* map) {
       }
     }
   }
-  const PlaneMap source = *map;
+  // Reads only the pixels that had a plane; writes only the empty ones.
   size_t num_filled = 0;
   for (int row = 0; row < map->height; ++row) {
     for (int col = 0; col < map->width; ++col) {
@@ -181,22 +191,16 @@ size_t ExtrapolateToEmptyPixels(const MvsView& view, PlaneMap* map) {
       const size_t j = it->second;
       const int nearest_row = static_cast<int>(j / map->width);
       const int nearest_col = static_cast<int>(j % map->width);
-      const Eigen::Vector3f& normal = source.normal[j];
-      const Eigen::Vector3f ray =
-          view.Ray(static_cast<float>(row), static_cast<float>(col));
-      const float denominator = normal.dot(ray);
-      if (!(denominator < -1e-3f)) continue;
       const Eigen::Vector3f point =
-          source.depth[j] * view.Ray(static_cast<float>(nearest_row),
-                                     static_cast<float>(nearest_col));
-      const float depth = normal.dot(point) / denominator;
-      const float nearest_depth = source.depth[j];
-      if (!(depth >= 0.5f * nearest_depth && depth <= 2.0f * nearest_depth)) {
-        continue;
-      }
+          map->depth[j] * view.Ray(static_cast<float>(nearest_row),
+                                   static_cast<float>(nearest_col));
+      const float depth = PlaneDepthAlongRay(
+          map->normal[j], point, map->depth[j],
+          view.Ray(static_cast<float>(row), static_cast<float>(col)));
+      if (!(depth > 0)) continue;
       const size_t i = map->Index(row, col);
       map->depth[i] = depth;
-      map->normal[i] = normal;
+      map->normal[i] = map->normal[j];
       ++num_filled;
     }
   }
