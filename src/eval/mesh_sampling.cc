@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 
@@ -40,6 +41,28 @@ double TriangleArea(const std::vector<Eigen::Vector3d>& vertices,
                    .norm();
 }
 
+// The seed of a triangle's samples: the sampling seed and the bits of its
+// three vertices' coordinates (in order), mixed by SplitMix64.
+uint64_t TriangleSeed(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                      const Eigen::Vector3d& c, uint64_t seed) {
+  const auto mix = [](uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+  };
+  uint64_t state = mix(seed);
+  for (const Eigen::Vector3d* vertex : {&a, &b, &c}) {
+    for (int k = 0; k < 3; ++k) {
+      uint64_t bits = 0;
+      const double value = (*vertex)[k];
+      std::memcpy(&bits, &value, sizeof(bits));
+      state = mix(state ^ bits);
+    }
+  }
+  return state;
+}
+
 }  // namespace
 
 double TriangleMeshArea(const std::vector<Eigen::Vector3d>& vertices,
@@ -58,34 +81,45 @@ std::vector<Eigen::Vector3d> SampleTriangleMesh(
   THROW_CHECK(density_per_m2 > 0.0,
               "SampleTriangleMesh: density must be positive, got "
                   << density_per_m2);
-  std::vector<double> cumulative_area(triangles.size());
-  double area = 0.0;
-  for (size_t i = 0; i < triangles.size(); ++i) {
-    area += TriangleArea(vertices, triangles[i]);
-    cumulative_area[i] = area;
-  }
   std::vector<Eigen::Vector3d> samples;
-  if (area <= 0.0) {
-    return samples;
-  }
-  const size_t num_samples = std::max<size_t>(
-      1, static_cast<size_t>(std::llround(area * density_per_m2)));
-  samples.reserve(num_samples);
-  std::mt19937_64 generator(seed);
+  samples.reserve(static_cast<size_t>(
+      std::min(1e9, TriangleMeshArea(vertices, triangles) * density_per_m2 +
+                        static_cast<double>(triangles.size()))));
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  for (size_t i = 0; i < num_samples; ++i) {
-    const double target = uniform(generator) * area;
-    const size_t t = std::min<size_t>(
-        triangles.size() - 1,
-        std::upper_bound(cumulative_area.begin(), cumulative_area.end(),
-                         target) -
-            cumulative_area.begin());
-    const double r1 = std::sqrt(uniform(generator));
-    const double r2 = uniform(generator);
+  size_t largest = triangles.size();
+  double largest_area = 0.0;
+  for (size_t t = 0; t < triangles.size(); ++t) {
     const Eigen::Vector3d& a = vertices[triangles[t][0]];
     const Eigen::Vector3d& b = vertices[triangles[t][1]];
     const Eigen::Vector3d& c = vertices[triangles[t][2]];
-    samples.push_back((1.0 - r1) * a + r1 * (1.0 - r2) * b + r1 * r2 * c);
+    const double area = TriangleArea(vertices, triangles[t]);
+    if (!(area > 0.0)) continue;
+    if (area > largest_area) {
+      largest_area = area;
+      largest = t;
+    }
+    std::mt19937_64 generator(TriangleSeed(a, b, c, seed));
+    // floor(area * density) samples, one more with the probability of the
+    // fractional part: area * density in expectation.
+    const double expected = area * density_per_m2;
+    double whole = 0.0;
+    const double fraction = std::modf(expected, &whole);
+    const size_t count =
+        static_cast<size_t>(whole) + (uniform(generator) < fraction ? 1 : 0);
+    for (size_t i = 0; i < count; ++i) {
+      const double r1 = std::sqrt(uniform(generator));
+      const double r2 = uniform(generator);
+      samples.push_back((1.0 - r1) * a + r1 * (1.0 - r2) * b +
+                        r1 * r2 * c);
+    }
+  }
+  // A mesh of positive area gets at least one sample: the centroid of its
+  // largest triangle.
+  if (samples.empty() && largest < triangles.size()) {
+    samples.push_back((vertices[triangles[largest][0]] +
+                       vertices[triangles[largest][1]] +
+                       vertices[triangles[largest][2]]) /
+                      3.0);
   }
   return samples;
 }

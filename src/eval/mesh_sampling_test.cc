@@ -60,5 +60,48 @@ TEST(MeshSampling, AreaWeightedAndDeterministic) {
   EXPECT_TRUE(SampleTriangleMesh(vertices, {{0, 0, 1}}, 100, 1).empty());
 }
 
+// Two meshes that share a triangle and differ in another: the shared
+// triangle gets the same points in both (whatever its index), so an A/B of
+// the two compares the changed region only; the expected count holds for
+// fractional areas too.
+TEST(MeshSampling, SharedTrianglesGetTheSamePoints) {
+  const std::vector<Eigen::Vector3d> vertices = {
+      {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 0, 1}, {6, 0, 1}, {5, 1, 1}};
+  std::vector<Eigen::Vector3d> moved = vertices;
+  moved[5] = Eigen::Vector3d(5, 3, 1);  // the second triangle grows
+  const std::vector<Eigen::Vector3d> a =
+      SampleTriangleMesh(vertices, {{0, 1, 2}, {3, 4, 5}}, 1000, 3);
+  // The shared triangle listed second in the other mesh.
+  const std::vector<Eigen::Vector3d> b =
+      SampleTriangleMesh(moved, {{3, 4, 5}, {0, 1, 2}}, 1000, 3);
+  const auto in_first = [](const std::vector<Eigen::Vector3d>& samples) {
+    std::vector<Eigen::Vector3d> out;
+    for (const Eigen::Vector3d& p : samples) {
+      if (p.z() == 0.0) out.push_back(p);
+    }
+    return out;
+  };
+  ASSERT_EQ(in_first(a).size(), 500u);
+  EXPECT_EQ(in_first(a), in_first(b));
+  EXPECT_EQ(a.size() - 500, 500u);
+  EXPECT_EQ(b.size() - 500, 1500u);
+  // 0.3 expected samples per triangle over many triangles: the count
+  // follows the area (a strip of 2000 triangles of 0.5 mm^2 at 0.6 / mm^2).
+  std::vector<Eigen::Vector3d> strip;
+  std::vector<Eigen::Vector3i> strip_triangles;
+  for (int i = 0; i < 2000; ++i) {
+    const double x = 0.001 * i;
+    strip.emplace_back(x, 0, 0);
+    strip.emplace_back(x + 0.001, 0, 0);
+    strip.emplace_back(x, 0.001, 0);
+    strip_triangles.emplace_back(3 * i, 3 * i + 1, 3 * i + 2);
+  }
+  const size_t count =
+      SampleTriangleMesh(strip, strip_triangles, 6e5, 5).size();
+  EXPECT_NEAR(static_cast<double>(count), 600.0, 75.0);  // 3.5 sigma
+  // Far below one sample per mesh: still one.
+  EXPECT_EQ(SampleTriangleMesh(vertices, {{0, 1, 2}}, 1e-6, 1).size(), 1u);
+}
+
 }  // namespace
 }  // namespace colmap_lidar

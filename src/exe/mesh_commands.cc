@@ -125,6 +125,31 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      &meshing->min_component_faces,
                      "Clean-up: remove connected components with fewer "
                      "faces; 0 keeps all. >= 0.");
+  options->AddOption("DelaunayMeshing.snap_to_creases",
+                     &meshing->snap_to_creases,
+                     "Move the mesh's vertices near the creases of the "
+                     "validated 3D lines onto the creases' two faces.");
+  options->AddOption("DelaunayMeshing.crease_radius_factor",
+                     &meshing->crease_snapping.radius_factor,
+                     "Vertices within this many point spacings of a crease "
+                     "are snapped, > 0.");
+  options->AddOption("DelaunayMeshing.crease_max_move_factor",
+                     &meshing->crease_snapping.max_move_factor,
+                     "Largest move of a snapped vertex, in point spacings, "
+                     "> 0.");
+  options->AddOption("DelaunayMeshing.crease_local_radius_factor",
+                     &meshing->crease_snapping.local_radius_factor,
+                     "A vertex is snapped only when the surface points "
+                     "within this many point spacings of it lie on the "
+                     "crease's faces, > 0.");
+  options->AddOption("DelaunayMeshing.crease_max_local_offset_factor",
+                     &meshing->crease_snapping.max_local_offset_factor,
+                     "Largest median distance of those surface points to "
+                     "the crease's faces, in point spacings, > 0.");
+  options->AddOption("DelaunayMeshing.crease_min_local_points",
+                     &meshing->crease_snapping.min_local_points,
+                     "Fewest surface points around a vertex for it to be "
+                     "snapped, >= 1.");
   options->AddOption("DelaunayMeshing.max_memory_gb", &meshing->max_memory_gb,
                      "Memory guard, GiB: inputs with more than max_memory_gb "
                      "* 2^30 / 2500 points are decimated on a voxel grid. "

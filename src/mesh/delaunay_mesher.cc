@@ -110,6 +110,7 @@ bool DelaunayMeshingOptions::Check() const {
   if (!TriangulationOptions().Check()) return false;
   if (!VisibilityOptions().Check()) return false;
   if (!CleanupOptions().Check()) return false;
+  if (snap_to_creases && !crease_snapping.Check()) return false;
   if (!(quality_regularization >= 0)) {
     LOG(ERROR) << "DelaunayMeshing.quality_regularization must be >= 0";
     return false;
@@ -319,6 +320,19 @@ TriangleMesh DelaunayMeshing(const DelaunayMeshingOptions& options,
     mesh = ExtractSurface(triangulation, cut.is_source_side);
     summary.num_surface_faces = mesh.faces.size();
     summary.cleanup = CleanupMesh(options.CleanupOptions(), &mesh);
+  }
+  if (options.snap_to_creases && !input->creases.empty()) {
+    summary.crease_snapping =
+        SnapMeshToCreases(options.crease_snapping, input->creases,
+                          input->positions, input->crease_spacing_m, &mesh);
+    LOG(INFO) << "Crease snapping: "
+              << summary.crease_snapping.num_vertices_moved
+              << " vertices near " << summary.crease_snapping.num_creases
+              << " line creases moved onto their faces by "
+              << summary.crease_snapping.median_move_m << " m (median), "
+              << summary.crease_snapping.max_move_m << " m at most; "
+              << summary.crease_snapping.num_vertices_off_wedge
+              << " left where the points around them are off the wedge";
   }
   summary.num_faces = mesh.faces.size();
   summary.num_mesh_vertices = mesh.vertices.size();

@@ -9,7 +9,9 @@
 //    smaller cosine of the angles between the facet and the circumspheres
 //    of its two cells, times quality_regularization);
 // 4. the facets between outside and inside cells are the mesh, oriented
-//    towards the outside; then clean-up (triangle_mesh.h).
+//    towards the outside; then clean-up (triangle_mesh.h);
+// 5. the vertices near the creases that the validated 3D line segments found
+//    move onto the creases' two faces (crease_snapping.h).
 //
 // Memory (benchmarks/bench_meshing, synthetic box scene, 12 cameras, ~7
 // observations per point): without vertex merging, 292k points -> 292k
@@ -23,6 +25,7 @@
 
 #include <string>
 
+#include "src/mesh/crease_snapping.h"
 #include "src/mesh/delaunay_triangulation.h"
 #include "src/mesh/meshing_input.h"
 #include "src/mesh/triangle_mesh.h"
@@ -62,6 +65,11 @@ struct DelaunayMeshingOptions {
   // Clean-up of the extracted surface.
   double max_edge_length_factor = 25.0;
   int min_component_faces = 50;
+  // Snap the mesh's vertices near the creases of the validated line
+  // segments onto the creases' faces (crease_snapping.h); the input's
+  // creases come with its line samples.
+  bool snap_to_creases = true;
+  CreaseSnappingOptions crease_snapping;
   // Memory guard: inputs whose estimated peak exceeds this are decimated,
   // GiB (> 0).
   double max_memory_gb = 20.0;
@@ -91,6 +99,7 @@ struct DelaunayMeshingSummary {
   double max_flow = 0;
   size_t num_surface_faces = 0;
   MeshCleanupSummary cleanup;
+  CreaseSnappingSummary crease_snapping;
   size_t num_faces = 0;
   size_t num_mesh_vertices = 0;
   double triangulation_seconds = 0;

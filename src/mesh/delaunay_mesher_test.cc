@@ -276,6 +276,80 @@ TEST(DelaunayMesher, LineSamplesSharpenTheBoxEdges) {
   EXPECT_LT(Percentile(FaceDistancesToSurface(scene, line_mesh), 95), 0.01);
 }
 
+// Distances to the true surface of the mesh's vertices within `radius` of
+// a box edge (orthogonally, within the edge's extent).
+std::vector<double> NearEdgeVertexDistances(const SyntheticBoxScene& scene,
+                                            const TriangleMesh& mesh,
+                                            double radius) {
+  std::vector<double> distances;
+  for (const Eigen::Vector3d& vertex : mesh.vertices) {
+    for (const Line3D& line : scene.BoxEdgeLines()) {
+      const Eigen::Vector3d axis = line.end_in_world - line.start_in_world;
+      const double t =
+          (vertex - line.start_in_world).dot(axis) / axis.squaredNorm();
+      if (t < 0 || t > 1) continue;
+      if ((line.start_in_world + t * axis - vertex).norm() <= radius) {
+        distances.push_back(scene.DistanceToSurface(vertex));
+        break;
+      }
+    }
+  }
+  return distances;
+}
+
+TEST(DelaunayMesher, CreaseSnappingPutsTheVerticesAtTheEdgesOnTheFaces) {
+  // 1 cm of noise on the points: the line validation fits the box's faces
+  // at each edge, and the vertices around it move onto them.
+  SyntheticBoxSceneOptions scene_options;
+  scene_options.box_spacing_m = 0.03;
+  scene_options.noise_m = 0.01;
+  const SyntheticBoxScene scene(scene_options);
+  MeshingInput input =
+      MakeVisualMeshingInput(scene, scene.SampleVisualPoints());
+  Reconstruction lines_model;
+  line3D_t line3D_id = 1;
+  for (const Line3D& line : scene.BoxEdgeLines()) {
+    lines_model.lines3D[line3D_id++] = line;
+  }
+  AddLineSamples(MeshingInputOptions(), scene.Model(), lines_model,
+                 /*observations=*/nullptr, &input);
+  ASSERT_GE(input.creases.size(), 4u);
+  ASSERT_GT(input.crease_spacing_m, 0);
+
+  DelaunayMeshingOptions options = TestOptions();
+  options.snap_to_creases = false;
+  const TriangleMesh plain = DelaunayMeshing(options, input);
+  options.snap_to_creases = true;
+  DelaunayMeshingSummary summary;
+  const TriangleMesh snapped = DelaunayMeshing(options, input, &summary);
+  EXPECT_EQ(summary.crease_snapping.num_creases, input.creases.size());
+  EXPECT_GT(summary.crease_snapping.num_vertices_moved, 50u);
+  // Same faces; only vertices near the creases moved.
+  ASSERT_EQ(snapped.faces, plain.faces);
+  const double radius = options.crease_snapping.radius_factor *
+                        input.crease_spacing_m;
+  size_t num_moved = 0;
+  for (size_t v = 0; v < plain.vertices.size(); ++v) {
+    if (snapped.vertices[v] == plain.vertices[v]) continue;
+    ++num_moved;
+    EXPECT_LE((snapped.vertices[v] - plain.vertices[v]).norm(),
+              options.crease_snapping.max_move_factor *
+                      input.crease_spacing_m + 1e-9);
+  }
+  EXPECT_EQ(num_moved, summary.crease_snapping.num_vertices_moved);
+  const std::vector<double> before =
+      NearEdgeVertexDistances(scene, plain, radius);
+  const std::vector<double> after =
+      NearEdgeVertexDistances(scene, snapped, radius);
+  LOG(INFO) << "Vertices near the box edges: " << before.size()
+            << ", distance to the surface median " << Percentile(before, 50)
+            << " -> " << Percentile(after, 50) << " m, p90 "
+            << Percentile(before, 90) << " -> " << Percentile(after, 90);
+  ASSERT_GT(before.size(), 50u);
+  EXPECT_LT(Percentile(after, 50), 0.5 * Percentile(before, 50));
+  EXPECT_LT(Percentile(after, 90), Percentile(before, 90));
+}
+
 TEST(DelaunayMesher, WorkspaceWithLidarToPly) {
   SyntheticBoxSceneOptions scene_options;
   scene_options.box_spacing_m = 0.04;

@@ -304,6 +304,8 @@ ValidatedLine LineValidator::Validate(const Eigen::Vector3d& start,
     corner = Intersect(face1, face2);
   }
   // Each face lies on one side of the corner along its cross-section.
+  Eigen::Vector2d face_directions[2];
+  int face_idx = 0;
   for (const auto& [face, inliers] :
        {std::make_pair(&face1, &inliers1), std::make_pair(&face2, &inliers2)}) {
     const Eigen::Vector2d along(face->normal.y(), -face->normal.x());
@@ -320,6 +322,7 @@ ValidatedLine LineValidator::Validate(const Eigen::Vector3d& start,
       result.status = LineValidationStatus::kNotACorner;
       return result;
     }
+    face_directions[face_idx++] = 2 * positive > total ? along : -along;
   }
   result.offset_m = corner.norm();
   if (result.offset_m > options_.max_offset_factor * spacing_) {
@@ -330,6 +333,10 @@ ValidatedLine LineValidator::Validate(const Eigen::Vector3d& start,
   result.status = LineValidationStatus::kCrease;
   result.start = start + shift;
   result.end = end + shift;
+  for (int f = 0; f < 2; ++f) {
+    result.face_directions[f] =
+        face_directions[f].x() * e1 + face_directions[f].y() * e2;
+  }
   return result;
 }
 

@@ -22,6 +22,7 @@
 // are multiples of it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -78,6 +79,11 @@ struct ValidatedLine {
   // Distance from the input segment to the crease, metres (kCrease and
   // kOffCrease; 0 otherwise).
   double offset_m = 0;
+  // kCrease: unit vectors orthogonal to the segment along which the two
+  // faces leave the crease (the measured wedge is the union of the two
+  // half-planes {crease + s * face_directions[f], s >= 0}); zero otherwise.
+  std::array<Eigen::Vector3d, 2> face_directions = {
+      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
 };
 
 class LineValidator {

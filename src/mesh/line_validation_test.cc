@@ -56,6 +56,19 @@ TEST(LineValidation, MovesASegmentOntoTheCreaseOfThePoints) {
   EXPECT_LT(std::hypot(parallel.start.y(), parallel.start.z()), 0.002);
   EXPECT_NEAR(line.offset_m, std::hypot(0.0125, 0.0125), 0.003);
   EXPECT_NEAR((line.end - line.start).norm(), (end - start).norm(), 1e-12);
+  // The faces leave the crease along the floor (+y) and up the wall (+z),
+  // in either order, as unit vectors orthogonal to the segment.
+  const auto& directions = parallel.face_directions;
+  const bool floor_first = directions[0].y() > directions[1].y();
+  EXPECT_LT((directions[floor_first ? 0 : 1] - Eigen::Vector3d::UnitY())
+                .norm(), 0.02);
+  EXPECT_LT((directions[floor_first ? 1 : 0] - Eigen::Vector3d::UnitZ())
+                .norm(), 0.02);
+  for (const Eigen::Vector3d& direction : line.face_directions) {
+    EXPECT_NEAR(direction.norm(), 1.0, 1e-9);
+    EXPECT_NEAR(direction.dot((line.end - line.start).normalized()), 0.0,
+                1e-9);
+  }
   // Deterministic for a seed.
   const ValidatedLine again = validator.Validate(start, end, 1);
   EXPECT_EQ(again.start, line.start);

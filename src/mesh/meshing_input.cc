@@ -292,10 +292,13 @@ namespace {
 
 // Validates every segment of `segments` against `points` (the visual and
 // LIDAR points of the input) on the threads; one INFO line of the outcome.
-void ValidateLines(const MeshingInputOptions& options,
-                   const std::vector<Eigen::Vector3d>& points, int num_threads,
-                   std::map<line3D_t, ValidatedLine>* segments) {
-  if (segments->empty()) return;
+// Returns the validator's point spacing s, metres (0 when nothing was
+// validated).
+double ValidateLines(const MeshingInputOptions& options,
+                     const std::vector<Eigen::Vector3d>& points,
+                     int num_threads,
+                     std::map<line3D_t, ValidatedLine>* segments) {
+  if (segments->empty()) return 0;
   if (points.size() <=
       static_cast<size_t>(options.line_validation.spacing_neighbor)) {
     LOG(WARNING) << "Line validation: too few surface points; every line "
@@ -303,7 +306,7 @@ void ValidateLines(const MeshingInputOptions& options,
     for (auto& [line3D_id, segment] : *segments) {
       segment.status = LineValidationStatus::kFewPoints;
     }
-    return;
+    return 0;
   }
   const LineValidator validator(options.line_validation, points);
   std::vector<std::pair<line3D_t, ValidatedLine*>> items;
@@ -339,6 +342,7 @@ void ValidateLines(const MeshingInputOptions& options,
             << " m): " << counts[0] << " of " << segments->size()
             << " 3D lines on a crease of the points, moved onto it by "
             << median_offset << " m (median); left out: " << dropped.str();
+  return validator.spacing();
 }
 
 }  // namespace
@@ -360,8 +364,10 @@ size_t AddLineSamples(
     segment.start = line3D.start_in_world;
     segment.end = line3D.end_in_world;
   }
+  double spacing = 0;
   if (options.validate_lines) {
-    ValidateLines(options, input->positions, options.num_threads, &segments);
+    spacing = ValidateLines(options, input->positions, options.num_threads,
+                            &segments);
   }
   for (const auto& [line3D_id, line3D] : lines_model.lines3D) {
     const ValidatedLine& segment = segments.at(line3D_id);
@@ -401,6 +407,7 @@ size_t AddLineSamples(
     // The per-view endpoints are as noisy as the LIDAR edge points they
     // came from: an image sees a sample one step beyond its interval too.
     const double tolerance = 1.0 / num_steps;
+    const size_t num_samples_before = num_samples;
     for (int k = 0; k <= num_steps; ++k) {
       const double t = static_cast<double>(k) / num_steps;
       std::vector<uint32_t> sensor_indices;
@@ -430,6 +437,16 @@ size_t AddLineSamples(
       ++num_samples;
     }
     ++num_lines_used;
+    // A validated segment that gave samples knows the two faces of its
+    // crease: the mesher snaps the mesh onto them.
+    if (options.validate_lines && num_samples > num_samples_before) {
+      MeshCrease crease;
+      crease.start = segment.start;
+      crease.end = segment.end;
+      crease.face_directions = segment.face_directions;
+      input->creases.push_back(crease);
+      input->crease_spacing_m = spacing;
+    }
   }
   size_t num_kept = 0;
   for (const auto& [line3D_id, segment] : segments) {

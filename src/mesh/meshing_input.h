@@ -28,6 +28,7 @@
 
 #include "colmap_ext/mvs/fused_vis.h"
 #include "colmap_ext/scene/reconstruction.h"
+#include "src/mesh/crease_snapping.h"
 #include "src/mesh/lidar_denoising.h"
 #include "src/mesh/line_observations.h"
 #include "src/mesh/line_validation.h"
@@ -57,6 +58,12 @@ struct MeshingInput {
   std::vector<float> ray_weights;
   // Indices into `sensors`, per point.
   FusedVisibility visibility;
+  // The creases of the surface that the sampled line segments lie on
+  // (validated lines only) and the point spacing s the validation measured,
+  // metres (0 without creases): the mesher snaps the mesh onto them
+  // (crease_snapping.h).
+  std::vector<MeshCrease> creases;
+  double crease_spacing_m = 0;
 
   size_t NumPoints() const { return positions.size(); }
   size_t NumRays() const;

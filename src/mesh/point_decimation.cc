@@ -68,6 +68,8 @@ double DecimateMeshingInput(size_t max_num_points, MeshingInput* input) {
   std::vector<int64_t> new_index(input->NumPoints(), -1);
   MeshingInput output;
   output.sensors = input->sensors;
+  output.creases = input->creases;
+  output.crease_spacing_m = input->crease_spacing_m;
   for (const auto& [key, point_idx] : voxel_to_point) {
     new_index[point_idx] = static_cast<int64_t>(output.NumPoints());
     output.positions.push_back(input->positions[point_idx]);
