@@ -41,6 +41,10 @@ double TriangleArea(const std::vector<Eigen::Vector3d>& vertices,
                    .norm();
 }
 
+// More samples than fit in memory (24 bytes each): a unit error in the
+// density or a mesh far larger than a scene.
+constexpr double kMaxSamples = 1e9;
+
 // The seed of a triangle's samples: the sampling seed and the bits of its
 // three vertices' coordinates (in order), mixed by SplitMix64.
 uint64_t TriangleSeed(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -82,9 +86,15 @@ std::vector<Eigen::Vector3d> SampleTriangleMesh(
               "SampleTriangleMesh: density must be positive, got "
                   << density_per_m2);
   std::vector<Eigen::Vector3d> samples;
-  samples.reserve(static_cast<size_t>(
-      std::min(1e9, TriangleMeshArea(vertices, triangles) * density_per_m2 +
-                        static_cast<double>(triangles.size()))));
+  const double expected_total =
+      TriangleMeshArea(vertices, triangles) * density_per_m2;
+  THROW_CHECK(!(expected_total > kMaxSamples),
+              "SampleTriangleMesh: " << expected_total
+                  << " samples asked (area x density); at most "
+                  << kMaxSamples);
+  if (expected_total > 0) {
+    samples.reserve(static_cast<size_t>(expected_total) + 1);
+  }
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   size_t largest = triangles.size();
   double largest_area = 0.0;

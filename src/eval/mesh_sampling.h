@@ -32,7 +32,8 @@ double TriangleMeshArea(const std::vector<Eigen::Vector3d>& vertices,
 // differs in that region's samples only (a global draw redrew every sample
 // whenever the total area changed, +-0.0005 of precision near the creases
 // between meshes that differ in 2 % of their vertices). Deterministic for a
-// given seed.
+// given seed. Throws colmap_lidar::Error when more than 1e9 samples are
+// asked.
 std::vector<Eigen::Vector3d> SampleTriangleMesh(
     const std::vector<Eigen::Vector3d>& vertices,
     const std::vector<Eigen::Vector3i>& triangles, double density_per_m2,

@@ -58,6 +58,8 @@ TEST(MeshSampling, AreaWeightedAndDeterministic) {
   EXPECT_NE(SampleTriangleMesh(vertices, triangles, 4000, 8), samples);
   // Zero area: no samples.
   EXPECT_TRUE(SampleTriangleMesh(vertices, {{0, 0, 1}}, 100, 1).empty());
+  // More samples than fit in memory (a density in points per mm^2): an error.
+  EXPECT_THROW(SampleTriangleMesh(vertices, triangles, 1e9, 7), Error);
 }
 
 // Two meshes that share a triangle and differ in another: the shared

@@ -78,7 +78,10 @@ struct CreaseSnappingSummary {
 // Moves each vertex of `mesh` that lies within radius_factor * spacing_m of
 // a crease onto the nearest point of that crease's wedge, when the move is
 // at most max_move_factor * spacing_m and the `surface_points` (the meshing
-// input's positions, world frame) around the vertex lie on that wedge; a
+// input's positions, world frame; its line samples are among them and lie
+// on their crease, so within s of a crease they lean the check towards
+// snapping, where the validation has placed the crease) around the vertex
+// lie on that wedge; a
 // vertex near several creases goes to the nearest wedge. The faces are
 // unchanged. spacing_m > 0 (the line validation's s). Throws
 // colmap_lidar::Error on invalid options, a non-positive spacing or a
