@@ -518,10 +518,11 @@ MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
                                          Eigen::Vector3d::Zero());
     std::vector<bool> has_origin(model.images.size(), false);
     for (const auto& [name, origin] : ReadLidarOrigins(origins_path)) {
-      const int image_idx = [&] {
-        const Image* image = model.FindImageByName(name);
-        return image == nullptr ? -1 : model.ImageIndex(image->image_id);
-      }();
+      // (No lambda here: C++17 cannot capture a structured binding, and
+      // clang refuses to.)
+      const Image* image = model.FindImageByName(name);
+      const int image_idx =
+          image == nullptr ? -1 : model.ImageIndex(image->image_id);
       if (image_idx < 0) {
         LOG(WARNING) << origins_path << ": image " << name
                      << " is not in the workspace model";
