@@ -22,57 +22,13 @@ that ended more than 1 cm farther. Needs numpy (Debian's python3-numpy).
 """
 import argparse
 import json
+import os
 import sys
 
 import numpy as np
 
-TYPES = {'float': '<f4', 'double': '<f8', 'uchar': 'u1', 'int': '<i4',
-         'uint': '<u4'}
-
-
-def read_ply(path):
-    with open(path, 'rb') as f:
-        header = []
-        while True:
-            line = f.readline()
-            if not line:
-                sys.exit(f'{path}: no end_header')
-            header.append(line.decode('ascii', 'replace').strip())
-            if header[-1] == 'end_header':
-                break
-        if 'format binary_little_endian 1.0' not in header:
-            sys.exit(f'{path}: only binary little-endian PLY is read')
-        elements = []
-        for h in header:
-            parts = h.split()
-            if parts[:1] == ['element']:
-                elements.append([parts[1], int(parts[2]), []])
-            elif parts[:1] == ['property'] and elements:
-                elements[-1][2].append(parts[1:])
-        vertices = faces = None
-        for name, count, props in elements:
-            if name == 'vertex':
-                if any(p[0] == 'list' for p in props):
-                    sys.exit(f'{path}: list property on vertices')
-                dtype = np.dtype([(p[1], TYPES[p[0]]) for p in props])
-                data = np.frombuffer(f.read(count * dtype.itemsize), dtype,
-                                     count)
-                vertices = np.stack([data['x'], data['y'], data['z']],
-                                    1).astype(np.float64)
-            elif name == 'face':
-                if props != [['list', 'uchar', 'int', 'vertex_indices']]:
-                    sys.exit(f'{path}: faces must be "list uchar int"')
-                dtype = np.dtype([('n', 'u1'), ('i', '<i4', (3,))])
-                data = np.frombuffer(f.read(count * dtype.itemsize), dtype,
-                                     count)
-                if count and np.any(data['n'] != 3):
-                    sys.exit(f'{path}: only triangles are read')
-                faces = data['i']
-            else:
-                sys.exit(f'{path}: unexpected element {name}')
-    if vertices is None:
-        sys.exit(f'{path}: no vertices')
-    return vertices, faces
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from meshing_table import read_ply  # noqa: E402  (binary PLY: vertices, faces)
 
 
 def distance_to_triangles(points, a, b, c, chunk=256):
@@ -120,14 +76,16 @@ def main():
     args = parser.parse_args()
     if args.max_vertices < 1:
         sys.exit('--max_vertices must be >= 1')
-    before, _ = read_ply(args.before)
-    after, _ = read_ply(args.after)
+    xyz = lambda v: np.stack([v['x'], v['y'], v['z']], 1).astype(np.float64)
+    before = xyz(read_ply(args.before)[0])
+    after = xyz(read_ply(args.after)[0])
     if before.shape != after.shape:
         sys.exit(f'{args.before} and {args.after} differ in vertex count: '
                  'not the same triangulation')
     with open(args.alignment) as f:
         transform = np.array(json.load(f)['reference_from_estimate'])
-    truth, faces = read_ply(args.truth)
+    truth_vertices, faces = read_ply(args.truth)
+    truth = xyz(truth_vertices)
     if faces is None or len(faces) == 0:
         sys.exit(f'{args.truth}: no faces')
     moved = np.flatnonzero(np.linalg.norm(before - after, axis=1) > 0)

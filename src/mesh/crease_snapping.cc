@@ -12,6 +12,7 @@ namespace {
 
 // Tolerance of the unit-length and orthogonality checks of a crease.
 constexpr double kDirectionTolerance = 1e-6;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // A crease in the frame the snapping works in.
 struct Wedge {
@@ -21,14 +22,16 @@ struct Wedge {
   std::array<Eigen::Vector3d, 2> face_directions;
 
   // The move of `point` onto the nearest point of the wedge (one of its
-  // half-planes, or the crease), for a point within the segment's extent;
-  // false outside it.
-  bool MoveOnto(const Eigen::Vector3d& point, Eigen::Vector3d* move) const {
+  // half-planes, or the crease), for a point within the segment's extent
+  // and within `radius` of the crease; false outside that cylinder.
+  bool MoveOnto(const Eigen::Vector3d& point, double radius,
+                Eigen::Vector3d* move) const {
     const Eigen::Vector3d p = point - start;
     const double t = p.dot(axis);
     if (t < 0 || t > length) return false;
     // The point relative to the crease, in the plane orthogonal to it.
     const Eigen::Vector3d q = p - t * axis;
+    if (q.squaredNorm() > radius * radius) return false;
     double best = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& direction : face_directions) {
       const Eigen::Vector3d target =
@@ -117,12 +120,8 @@ CreaseSnappingSummary SnapMeshToCreases(
     vertex_grid.ForEachInBox(
         wedge.start.cwiseMin(end) - margin,
         wedge.start.cwiseMax(end) + margin, [&](uint32_t v) {
-          const Eigen::Vector3d& vertex = mesh->vertices[v];
-          const Eigen::Vector3d p = vertex - wedge.start;
-          const double t = p.dot(wedge.axis);
-          if ((p - t * wedge.axis).squaredNorm() > radius * radius) return;
           Eigen::Vector3d move;
-          if (!wedge.MoveOnto(vertex, &move)) return;
+          if (!wedge.MoveOnto(mesh->vertices[v], radius, &move)) return;
           const double distance = move.norm();
           if (distance < best_distance[v]) {
             best_distance[v] = distance;
@@ -149,7 +148,7 @@ CreaseSnappingSummary SnapMeshToCreases(
         return;
       }
       Eigen::Vector3d move;
-      if (wedge.MoveOnto(surface_points[i], &move)) {
+      if (wedge.MoveOnto(surface_points[i], kInfinity, &move)) {
         offsets.push_back(move.norm());
       }
     });
