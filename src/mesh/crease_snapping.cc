@@ -20,6 +20,7 @@ struct Wedge {
   Eigen::Vector3d axis;  // unit, start -> end
   double length = 0;
   std::array<Eigen::Vector3d, 2> face_directions;
+  double plane_band_m = 0;
 
   // The move of `point` onto the nearest point of the wedge (one of its
   // half-planes, or the crease), for a point within the segment's extent
@@ -91,6 +92,10 @@ CreaseSnappingSummary SnapMeshToCreases(
     if (!(wedge.length > 0)) continue;
     wedge.axis = (crease.end - crease.start) / wedge.length;
     wedge.face_directions = crease.face_directions;
+    THROW_CHECK(crease.plane_band_m >= 0 && std::isfinite(crease.plane_band_m),
+                "Crease snapping: crease "
+                    << c << " has a plane band that is not >= 0");
+    wedge.plane_band_m = crease.plane_band_m;
     for (const Eigen::Vector3d& direction : crease.face_directions) {
       THROW_CHECK(std::abs(direction.norm() - 1) < kDirectionTolerance &&
                       std::abs(direction.dot(wedge.axis)) <
@@ -118,9 +123,9 @@ CreaseSnappingSummary SnapMeshToCreases(
     const Wedge& wedge = wedges[w];
     const Eigen::Vector3d end = wedge.start + wedge.length * wedge.axis;
     vertex_grid.ForEachInBox(
-        wedge.start.cwiseMin(end) - margin,
-        wedge.start.cwiseMax(end) + margin, [&](uint32_t v) {
-          Eigen::Vector3d move;
+        wedge.start.cwiseMin(end) - margin, wedge.start.cwiseMax(end) + margin,
+        [&](uint32_t v) {
+          Eigen::Vector3d move = Eigen::Vector3d::Zero();
           if (!wedge.MoveOnto(mesh->vertices[v], radius, &move)) return;
           const double distance = move.norm();
           if (distance < best_distance[v]) {
@@ -147,7 +152,7 @@ CreaseSnappingSummary SnapMeshToCreases(
           local_radius * local_radius) {
         return;
       }
-      Eigen::Vector3d move;
+      Eigen::Vector3d move = Eigen::Vector3d::Zero();
       if (wedge.MoveOnto(surface_points[i], kInfinity, &move)) {
         offsets.push_back(move.norm());
       }
@@ -158,7 +163,8 @@ CreaseSnappingSummary SnapMeshToCreases(
     }
     std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2,
                      offsets.end());
-    if (offsets[offsets.size() / 2] > max_local_offset) {
+    if (offsets[offsets.size() / 2] >
+        std::max(max_local_offset, wedge.plane_band_m)) {
       ++summary.num_vertices_off_wedge;
       continue;
     }

@@ -42,6 +42,10 @@ struct MeshCrease {
   Eigen::Vector3d end = Eigen::Vector3d::Zero();
   std::array<Eigen::Vector3d, 2> face_directions = {
       Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  // The half width of the line validation's plane band around the faces,
+  // metres (LineValidator::plane_tolerance(): wider than 0.3 s on noisy
+  // points); 0: max_local_offset_factor * s alone.
+  double plane_band_m = 0;
 };
 
 struct CreaseSnappingOptions {
@@ -54,7 +58,8 @@ struct CreaseSnappingOptions {
   // A vertex moves only when the surface points within local_radius_factor
   // * s of it lie on the wedge: at least min_local_points of them, at a
   // median distance of at most max_local_offset_factor * s (the line
-  // validation's plane band, 0.3 s). Both factors > 0, count >= 1.
+  // validation's plane band, 0.3 s) or the crease's plane_band_m where
+  // that is wider. Both factors > 0, count >= 1.
   double local_radius_factor = 1.0;
   double max_local_offset_factor = 0.3;
   int min_local_points = 3;

@@ -102,6 +102,40 @@ TEST(CreaseSnapping, VerticesWhereThePointsLeaveTheWedgeStay) {
   EXPECT_EQ(summary.num_vertices_off_wedge, 1u);
 }
 
+TEST(CreaseSnapping, TheLocalCheckUsesTheValidationsPlaneBand) {
+  // Surface points with 1 cm of noise across the faces (alternating +-1 cm):
+  // their median distance to the wedge, 1 cm, exceeds 0.3 s (6 mm) but not
+  // the band the line validation measured on them (2.5 sigma).
+  std::vector<Eigen::Vector3d> points;
+  double sign = 1;
+  for (double z = 0; z <= 1.0; z += 0.005) {
+    for (double u = 0.02; u <= 0.3; u += 0.005, sign = -sign) {
+      points.emplace_back(u, 0.01 * sign, z);
+      points.emplace_back(0.01 * sign, u, z);
+    }
+  }
+  TriangleMesh mesh;
+  mesh.vertices = {{0.05, 0.008, 0.5}};
+  const TriangleMesh before = mesh;
+  EXPECT_EQ(SnapMeshToCreases(CreaseSnappingOptions(), {ZCrease()}, points,
+                              0.02, &mesh)
+                .num_vertices_off_wedge,
+            1u);
+  EXPECT_EQ(mesh.vertices[0], before.vertices[0]);
+  MeshCrease noisy = ZCrease();
+  noisy.plane_band_m = 0.025;
+  EXPECT_EQ(
+      SnapMeshToCreases(CreaseSnappingOptions(), {noisy}, points, 0.02, &mesh)
+          .num_vertices_moved,
+      1u);
+  EXPECT_TRUE(mesh.vertices[0].isApprox(Eigen::Vector3d(0.05, 0, 0.5)));
+  // A negative band is refused.
+  noisy.plane_band_m = -1;
+  EXPECT_THROW(
+      SnapMeshToCreases(CreaseSnappingOptions(), {noisy}, points, 0.02, &mesh),
+      Error);
+}
+
 TEST(CreaseSnapping, AVertexNearTwoCreasesFollowsTheNearestWedge) {
   // A second crease 10 cm along x whose faces leave along -x and +y (the
   // two sides of a 10 cm wide recess): the vertex is 1.5 cm above the first

@@ -1,11 +1,11 @@
 #include "src/mesh/line_validation.h"
 
-#include <algorithm>
-#include <cmath>
-#include <random>
-
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
 
 #include "colmap_ext/util/logging.h"
 
@@ -54,6 +54,44 @@ double EstimateSpacing(const std::vector<Eigen::Vector3d>& points, int k) {
     }
   }
   THROW_ERROR("Line validation: cannot estimate the point spacing");
+}
+
+// Median, over an evenly strided sample of `points`, of the standard
+// deviation of the points within `radius` of a sample point along the
+// normal of their plane (principal components; at least 6 neighbours).
+// Flat neighbourhoods, the majority on the surfaces we mesh, give the
+// noise; those at creases and edges deviate more and fall above the
+// median. 0 when no sample has enough neighbours. `grid`'s cells are at
+// least `radius`.
+double EstimateNoise(const std::vector<Eigen::Vector3d>& points,
+                     const RadiusGrid& grid, double radius) {
+  const size_t num_samples = std::min(kMaxSpacingSamples, points.size());
+  const size_t stride = points.size() / num_samples;
+  std::vector<double> deviations;
+  for (size_t s = 0; s < num_samples; ++s) {
+    const Eigen::Vector3d& center = points[s * stride];
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    int count = 0;
+    grid.ForEachNear(center, [&](uint32_t j) {
+      const Eigen::Vector3d d = points[j] - center;
+      if (d.squaredNorm() > radius * radius) return;
+      sum += d;
+      outer += d * d.transpose();
+      ++count;
+    });
+    if (count < 6) continue;
+    const Eigen::Vector3d mean = sum / count;
+    const Eigen::Matrix3d covariance = outer / count - mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
+        covariance, Eigen::EigenvaluesOnly);
+    deviations.push_back(std::sqrt(std::max(solver.eigenvalues()(0), 0.0)));
+  }
+  if (deviations.empty()) return 0;
+  std::nth_element(deviations.begin(),
+                   deviations.begin() + deviations.size() / 2,
+                   deviations.end());
+  return deviations[deviations.size() / 2];
 }
 
 // A line n . q = offset of the cross-section plane, |n| = 1.
@@ -139,11 +177,122 @@ size_t FitSectionLine(const std::vector<Eigen::Vector2d>& section,
   return count;
 }
 
+// The crease of two faces of a segment's support (Validate): the faces'
+// cross-sections in `section` (coordinates along e1 = axis.unitOrthogonal()
+// and e2 = axis x e1 relative to `start`) with their inliers. `tolerance`
+// is the plane band, `spacing` s, metres.
+ValidatedLine ValidatePair(const LineValidationOptions& options, double spacing,
+                           double tolerance, const Eigen::Vector3d& start,
+                           const Eigen::Vector3d& end,
+                           const std::vector<Eigen::Vector2d>& section,
+                           SectionLine face1, std::vector<char> inliers1,
+                           SectionLine face2, std::vector<char> inliers2) {
+  ValidatedLine result;
+  result.start = start;
+  result.end = end;
+  result.status = LineValidationStatus::kOnePlane;
+  const Eigen::Vector3d axis = (end - start).normalized();
+  const Eigen::Vector3d e1 = axis.unitOrthogonal();
+  const Eigen::Vector3d e2 = axis.cross(e1);
+  const size_t min_points = static_cast<size_t>(options.min_face_points);
+  // Points of face 2 in face 1's band too lie at the crease: neither face's.
+  size_t count1 = 0;
+  size_t count2 = 0;
+  for (size_t i = 0; i < section.size(); ++i) {
+    const bool near2 = face2.Distance(section[i]) < tolerance;
+    if (inliers1[i] && near2) inliers1[i] = 0;
+    count1 += inliers1[i];
+    count2 += inliers2[i];
+  }
+  if (count1 < min_points || count2 < min_points) return result;
+
+  const double max_cos = std::cos(options.min_crease_angle_deg * M_PI / 180.0);
+  if (std::abs(face1.normal.dot(face2.normal)) > max_cos) {
+    result.status = LineValidationStatus::kParallelFaces;
+    return result;
+  }
+  Eigen::Vector2d corner = Intersect(face1, face2);
+  // Near the corner a point is within the band of both faces, and the
+  // RANSAC line that gathers most points leans to take some of the other
+  // face's (a bias of a quarter of the spacing towards the inside, in a
+  // test): refit each face to its points away from the corner.
+  const double exclusion = std::max(2.0 * tolerance, spacing);
+  for (int round = 0; round < 2; ++round) {
+    SectionLine refined[2];
+    bool ok = true;
+    for (int f = 0; f < 2; ++f) {
+      const SectionLine& face = f == 0 ? face1 : face2;
+      std::vector<Eigen::Vector2d> far;
+      for (const Eigen::Vector2d& q : section) {
+        if (face.Distance(q) < tolerance &&
+            (q - corner).squaredNorm() > exclusion * exclusion) {
+          far.push_back(q);
+        }
+      }
+      if (far.size() < min_points) {
+        ok = false;
+        break;
+      }
+      refined[f] = FitLeastSquares(far);
+    }
+    if (!ok || std::abs(refined[0].normal.dot(refined[1].normal)) > max_cos) {
+      break;
+    }
+    face1 = refined[0];
+    face2 = refined[1];
+    corner = Intersect(face1, face2);
+  }
+  // Each face lies on one side of the corner along its cross-section.
+  Eigen::Vector2d face_directions[2];
+  int face_idx = 0;
+  for (const auto& [face, inliers] :
+       {std::make_pair(&face1, &inliers1), std::make_pair(&face2, &inliers2)}) {
+    const Eigen::Vector2d along(face->normal.y(), -face->normal.x());
+    size_t positive = 0;
+    size_t total = 0;
+    for (size_t i = 0; i < section.size(); ++i) {
+      if (!(*inliers)[i]) continue;
+      positive += along.dot(section[i] - corner) > 0;
+      ++total;
+    }
+    const double share =
+        static_cast<double>(std::max(positive, total - positive)) / total;
+    if (share < options.min_side_fraction) {
+      result.status = LineValidationStatus::kNotACorner;
+      return result;
+    }
+    face_directions[face_idx++] = 2 * positive > total ? along : -along;
+  }
+  result.offset_m = corner.norm();
+  if (result.offset_m > options.max_offset_factor * spacing) {
+    result.status = LineValidationStatus::kOffCrease;
+    return result;
+  }
+  const Eigen::Vector3d shift = corner.x() * e1 + corner.y() * e2;
+  result.status = LineValidationStatus::kCrease;
+  result.start = start + shift;
+  result.end = end + shift;
+  for (int f = 0; f < 2; ++f) {
+    result.face_directions[f] =
+        face_directions[f].x() * e1 + face_directions[f].y() * e2;
+  }
+  return result;
+}
+
 }  // namespace
 
 bool LineValidationOptions::Check() const {
   if (spacing_neighbor < 1) {
     LOG(ERROR) << "Line validation spacing_neighbor must be >= 1";
+    return false;
+  }
+  if (!(plane_tolerance_sigmas >= 0) ||
+      !std::isfinite(plane_tolerance_sigmas)) {
+    LOG(ERROR) << "Line validation plane_tolerance_sigmas must be >= 0";
+    return false;
+  }
+  if (!(noise_radius_factor > 0) || !std::isfinite(noise_radius_factor)) {
+    LOG(ERROR) << "Line validation noise_radius_factor must be > 0";
     return false;
   }
   if (!(support_radius_factor > 0) || !(plane_tolerance_factor > 0) ||
@@ -164,6 +313,16 @@ bool LineValidationOptions::Check() const {
   }
   if (!(min_side_fraction > 0.5 && min_side_fraction <= 1)) {
     LOG(ERROR) << "Line validation min_side_fraction must be in (0.5, 1]";
+    return false;
+  }
+  if (!(max_side_face_offset_factor > 0 &&
+        max_side_face_offset_factor <= max_offset_factor)) {
+    LOG(ERROR) << "Line validation max_side_face_offset_factor must be in "
+                  "(0, max_offset_factor]";
+    return false;
+  }
+  if (max_faces < 2) {
+    LOG(ERROR) << "Line validation max_faces must be >= 2";
     return false;
   }
   if (num_ransac_iterations < 1) {
@@ -205,6 +364,15 @@ LineValidator::LineValidator(const LineValidationOptions& options,
   spacing_ = std::max(spacing_, kMinSpacing);
   grid_ = std::make_unique<RadiusGrid>(
       points_, options_.support_radius_factor * spacing_);
+  const double noise_radius = options_.noise_radius_factor * spacing_;
+  if (options_.plane_tolerance_sigmas > 0) {
+    noise_ = noise_radius <= options_.support_radius_factor * spacing_
+                 ? EstimateNoise(points_, *grid_, noise_radius)
+                 : EstimateNoise(points_, RadiusGrid(points_, noise_radius),
+                                 noise_radius);
+  }
+  plane_tolerance_ = std::max(options_.plane_tolerance_factor * spacing_,
+                              options_.plane_tolerance_sigmas * noise_);
 }
 
 ValidatedLine LineValidator::Validate(const Eigen::Vector3d& start,
@@ -219,7 +387,7 @@ ValidatedLine LineValidator::Validate(const Eigen::Vector3d& start,
   const Eigen::Vector3d e1 = axis.unitOrthogonal();
   const Eigen::Vector3d e2 = axis.cross(e1);
   const double radius = options_.support_radius_factor * spacing_;
-  const double tolerance = options_.plane_tolerance_factor * spacing_;
+  const double tolerance = plane_tolerance_;
 
   // The support's cross-section: coordinates in the plane orthogonal to
   // the segment, relative to it.
@@ -238,106 +406,63 @@ ValidatedLine LineValidator::Validate(const Eigen::Vector3d& start,
   if (section.size() < 2 * min_points) return result;
 
   std::mt19937_64 rng(seed);
-  SectionLine face1;
-  SectionLine face2;
-  std::vector<char> inliers1;
-  std::vector<char> inliers2;
+  // Faces by sequential RANSAC, largest first. A step (a door frame, a
+  // recess's lip) shows two large parallel faces and, between them, a
+  // smaller side face that meets one of them at the segment: when the two
+  // largest faces make no crease, up to max_faces faces are fitted and the
+  // pairs with the smaller ones are tried.
+  std::vector<SectionLine> faces;
+  std::vector<std::vector<char>> face_inliers;
   std::vector<char> usable(section.size(), 1);
-  result.status = LineValidationStatus::kOnePlane;
-  if (FitSectionLine(section, usable, tolerance,
-                     options_.num_ransac_iterations, &rng, &face1,
-                     &inliers1) < min_points) {
-    return result;
-  }
-  for (size_t i = 0; i < section.size(); ++i) usable[i] = !inliers1[i];
-  if (FitSectionLine(section, usable, tolerance,
-                     options_.num_ransac_iterations, &rng, &face2,
-                     &inliers2) < min_points) {
-    return result;
-  }
-  // Points of face 2 in face 1's band too lie at the crease: neither face's.
-  size_t count1 = 0;
-  size_t count2 = 0;
-  for (size_t i = 0; i < section.size(); ++i) {
-    const bool near2 = face2.Distance(section[i]) < tolerance;
-    if (inliers1[i] && near2) inliers1[i] = 0;
-    count1 += inliers1[i];
-    count2 += inliers2[i];
-  }
-  if (count1 < min_points || count2 < min_points) return result;
-
-  const double max_cos =
-      std::cos(options_.min_crease_angle_deg * M_PI / 180.0);
-  if (std::abs(face1.normal.dot(face2.normal)) > max_cos) {
-    result.status = LineValidationStatus::kParallelFaces;
-    return result;
-  }
-  Eigen::Vector2d corner = Intersect(face1, face2);
-  // Near the corner a point is within the band of both faces, and the
-  // RANSAC line that gathers most points leans to take some of the other
-  // face's (a bias of a quarter of the spacing towards the inside, in a
-  // test): refit each face to its points away from the corner.
-  const double exclusion = std::max(2.0 * tolerance, spacing_);
-  for (int round = 0; round < 2; ++round) {
-    SectionLine refined[2];
-    bool ok = true;
-    for (int f = 0; f < 2; ++f) {
-      const SectionLine& face = f == 0 ? face1 : face2;
-      std::vector<Eigen::Vector2d> far;
-      for (const Eigen::Vector2d& q : section) {
-        if (face.Distance(q) < tolerance &&
-            (q - corner).squaredNorm() > exclusion * exclusion) {
-          far.push_back(q);
-        }
-      }
-      if (far.size() < min_points) {
-        ok = false;
-        break;
-      }
-      refined[f] = FitLeastSquares(far);
+  const auto fit_next_face = [&]() {
+    SectionLine face;
+    std::vector<char> inliers;
+    if (FitSectionLine(section, usable, tolerance,
+                       options_.num_ransac_iterations, &rng, &face,
+                       &inliers) < min_points) {
+      return false;
     }
-    if (!ok || std::abs(refined[0].normal.dot(refined[1].normal)) > max_cos) {
-      break;
-    }
-    face1 = refined[0];
-    face2 = refined[1];
-    corner = Intersect(face1, face2);
-  }
-  // Each face lies on one side of the corner along its cross-section.
-  Eigen::Vector2d face_directions[2];
-  int face_idx = 0;
-  for (const auto& [face, inliers] :
-       {std::make_pair(&face1, &inliers1), std::make_pair(&face2, &inliers2)}) {
-    const Eigen::Vector2d along(face->normal.y(), -face->normal.x());
-    size_t positive = 0;
-    size_t total = 0;
     for (size_t i = 0; i < section.size(); ++i) {
-      if (!(*inliers)[i]) continue;
-      positive += along.dot(section[i] - corner) > 0;
-      ++total;
+      if (inliers[i]) usable[i] = 0;
     }
-    const double share =
-        static_cast<double>(std::max(positive, total - positive)) / total;
-    if (share < options_.min_side_fraction) {
-      result.status = LineValidationStatus::kNotACorner;
-      return result;
+    faces.push_back(face);
+    face_inliers.push_back(std::move(inliers));
+    return true;
+  };
+  result.status = LineValidationStatus::kOnePlane;
+  if (!fit_next_face() || !fit_next_face()) return result;
+
+  // The two largest faces first: where they make a crease it is kept (the
+  // most supported fit), and their refusal is the one reported. Else a
+  // pair with a smaller face may make a crease, the one nearest the
+  // segment, when the segment lies at it already (max_side_face_offset):
+  // the smallest face's direction is the least certain, and so is its
+  // crease's position.
+  ValidatedLine best =
+      ValidatePair(options_, spacing_, tolerance, start, end, section, faces[0],
+                   face_inliers[0], faces[1], face_inliers[1]);
+  if (best.status == LineValidationStatus::kCrease) return best;
+  while (static_cast<int>(faces.size()) < options_.max_faces &&
+         fit_next_face()) {
+  }
+  double best_offset = std::numeric_limits<double>::infinity();
+  const double max_side_face_offset =
+      options_.max_side_face_offset_factor * spacing_;
+  for (size_t a = 0; a < faces.size(); ++a) {
+    for (size_t b = std::max(a + 1, size_t{2}); b < faces.size(); ++b) {
+      const ValidatedLine pair =
+          ValidatePair(options_, spacing_, tolerance, start, end, section,
+                       faces[a], face_inliers[a], faces[b], face_inliers[b]);
+      if (pair.status == LineValidationStatus::kCrease &&
+          pair.offset_m <= max_side_face_offset &&
+          pair.offset_m < best_offset) {
+        best_offset = pair.offset_m;
+        best = pair;
+        best.with_side_face = true;
+      }
     }
-    face_directions[face_idx++] = 2 * positive > total ? along : -along;
   }
-  result.offset_m = corner.norm();
-  if (result.offset_m > options_.max_offset_factor * spacing_) {
-    result.status = LineValidationStatus::kOffCrease;
-    return result;
-  }
-  const Eigen::Vector3d shift = corner.x() * e1 + corner.y() * e2;
-  result.status = LineValidationStatus::kCrease;
-  result.start = start + shift;
-  result.end = end + shift;
-  for (int f = 0; f < 2; ++f) {
-    result.face_directions[f] =
-        face_directions[f].x() * e1 + face_directions[f].y() * e2;
-  }
-  return result;
+  return best;
 }
 
 }  // namespace colmap_lidar

@@ -293,11 +293,13 @@ namespace {
 // Validates every segment of `segments` against `points` (the visual and
 // LIDAR points of the input) on the threads; one INFO line of the outcome.
 // Returns the validator's point spacing s, metres (0 when nothing was
-// validated).
+// validated), and its plane band in *plane_band_m.
 double ValidateLines(const MeshingInputOptions& options,
                      const std::vector<Eigen::Vector3d>& points,
                      int num_threads,
-                     std::map<line3D_t, ValidatedLine>* segments) {
+                     std::map<line3D_t, ValidatedLine>* segments,
+                     double* plane_band_m) {
+  *plane_band_m = 0;
   if (segments->empty()) return 0;
   if (points.size() <=
       static_cast<size_t>(options.line_validation.spacing_neighbor)) {
@@ -319,10 +321,12 @@ double ValidateLines(const MeshingInputOptions& options,
   });
   std::array<size_t, kNumLineValidationStatuses> counts{};
   std::vector<double> offsets;
+  size_t num_with_side_face = 0;
   for (const auto& [line3D_id, segment] : *segments) {
     ++counts[static_cast<int>(segment.status)];
     if (segment.status == LineValidationStatus::kCrease) {
       offsets.push_back(segment.offset_m);
+      num_with_side_face += segment.with_side_face;
     }
   }
   std::ostringstream dropped;
@@ -339,9 +343,14 @@ double ValidateLines(const MeshingInputOptions& options,
     median_offset = offsets[offsets.size() / 2];
   }
   LOG(INFO) << "Line validation (point spacing " << validator.spacing()
-            << " m): " << counts[0] << " of " << segments->size()
-            << " 3D lines on a crease of the points, moved onto it by "
+            << " m, noise " << validator.noise() << " m, plane band +-"
+            << validator.plane_tolerance() << " m): " << counts[0] << " of "
+            << segments->size() << " 3D lines on a crease of the points ("
+            << num_with_side_face
+            << " with a step's side face: not sampled, only snapped to), "
+               "moved onto it by "
             << median_offset << " m (median); left out: " << dropped.str();
+  *plane_band_m = validator.plane_tolerance();
   return validator.spacing();
 }
 
@@ -365,9 +374,10 @@ size_t AddLineSamples(
     segment.end = line3D.end_in_world;
   }
   double spacing = 0;
+  double plane_band_m = 0;
   if (options.validate_lines) {
     spacing = ValidateLines(options, input->positions, options.num_threads,
-                            &segments);
+                            &segments, &plane_band_m);
   }
   for (const auto& [line3D_id, line3D] : lines_model.lines3D) {
     const ValidatedLine& segment = segments.at(line3D_id);
@@ -407,7 +417,13 @@ size_t AddLineSamples(
     // The per-view endpoints are as noisy as the LIDAR edge points they
     // came from: an image sees a sample one step beyond its interval too.
     const double tolerance = 1.0 / num_steps;
-    const size_t num_samples_before = num_samples;
+    // A crease with a step's side face is less certain (line_validation.h):
+    // its samples would be hard vertices of the Delaunay meshing on it, and
+    // on the benchmark matrix they cost precision near the creases
+    // (matrix.md); the snapping, which moves a vertex only where the points
+    // around it agree, uses it.
+    const bool sample = !segment.with_side_face;
+    size_t num_observed_samples = 0;
     for (int k = 0; k <= num_steps; ++k) {
       const double t = static_cast<double>(k) / num_steps;
       std::vector<uint32_t> sensor_indices;
@@ -425,6 +441,8 @@ size_t AddLineSamples(
         ++num_unobserved;
         continue;
       }
+      ++num_observed_samples;
+      if (!sample) continue;
       // Trusted like a visual point seen in as many images: the sample is
       // as well placed as the line (a few cm), no better than a fused
       // depth; a full-weight ray of each sample outweighed the dense points
@@ -437,13 +455,14 @@ size_t AddLineSamples(
       ++num_samples;
     }
     ++num_lines_used;
-    // A validated segment that gave samples knows the two faces of its
-    // crease: the mesher snaps the mesh onto them.
-    if (options.validate_lines && num_samples > num_samples_before) {
+    // A validated segment seen where it would be sampled knows the two
+    // faces of its crease: the mesher snaps the mesh onto them.
+    if (options.validate_lines && num_observed_samples > 0) {
       MeshCrease crease;
       crease.start = segment.start;
       crease.end = segment.end;
       crease.face_directions = segment.face_directions;
+      crease.plane_band_m = plane_band_m;
       input->creases.push_back(crease);
       input->crease_spacing_m = spacing;
     }

@@ -15,7 +15,9 @@
 //   of the line (line_observations.h; given the database of the 2D
 //   segments, else every image of the track sees the whole line).
 //   By default only the segments on a crease of the visual and LIDAR points
-//   are sampled, moved onto it (line_validation.h).
+//   are sampled, moved onto it (line_validation.h), and not those whose
+//   crease is with a step's side face (kept in `creases` for the snapping
+//   only).
 // Each point carries the free-space weight of each of its rays.
 #pragma once
 
@@ -168,7 +170,10 @@ void AddLidarPoints(const MeshingInputOptions& options,
 // sample that no image observed is not added. nullptr: every image of the
 // track sees every sample. With options.validate_lines, only the segments on
 // a crease of the points already in `input` are sampled, moved onto it
-// (line_validation.h). Returns the number of samples added.
+// (line_validation.h), and every validated segment that an image observed
+// joins input->creases; one whose crease is with a step's side face
+// (ValidatedLine::with_side_face) is not sampled. Returns the number of
+// samples added.
 size_t AddLineSamples(
     const MeshingInputOptions& options, const Reconstruction& dense_model,
     const Reconstruction& lines_model,
