@@ -1,10 +1,11 @@
 #include "src/mesh/meshing_input.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
-
-#include <gtest/gtest.h>
+#include <random>
 
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/mvs/workspace.h"
@@ -210,6 +211,65 @@ TEST_F(MeshingInputTest, ErrorsNameTheFile) {
   ExpectErrorNaming(
       [&] { ReadMeshingInput(options, JoinPaths(workspace_, "nothing")); },
       "nothing");
+}
+
+TEST_F(MeshingInputTest, CreasesWithAStepsSideFaceAreSnappedToNotSampled) {
+  // Surface points drawn uniformly, one per 4 cm^2, away from the box: a 6
+  // cm step along x (near floor z = 0.06 for y in (10, 10.6], riser y = 10,
+  // far floor z = 0 for y in [9.4, 10)) and a wall on a floor (y = 20,
+  // z >= 0 and z = 0 for y < 20).
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  MeshingInput input;
+  AddCameraSensors(scene_->Model(), &input);
+  const auto add = [&](double x, double y, double z) {
+    input.AddPoint(Eigen::Vector3d(x, y, z), MeshingPointSource::kVisual, 1,
+                   {});
+  };
+  for (int i = 0; i < 3000; ++i) {
+    add(-1 + 2 * uniform(rng), 10 + 0.6 * uniform(rng), 0.06);
+    add(-1 + 2 * uniform(rng), 10 - 0.6 * uniform(rng), 0.0);
+    add(-1 + 2 * uniform(rng), 20, 0.6 * uniform(rng));
+    add(-1 + 2 * uniform(rng), 20 - 0.6 * uniform(rng), 0.0);
+  }
+  for (int i = 0; i < 300; ++i) {
+    add(-1 + 2 * uniform(rng), 10, 0.06 * uniform(rng));
+  }
+  // The step's top edge and the wall's foot, seen by the scene's first
+  // image.
+  Reconstruction lines_model = scene_->Model();
+  const image_t image_id = lines_model.images.front().image_id;
+  Line3D step;
+  step.start_in_world = Eigen::Vector3d(-0.8, 10.005, 0.063);
+  step.end_in_world = Eigen::Vector3d(0.8, 10.005, 0.063);
+  step.track = {{image_id, 0}};
+  Line3D foot = step;
+  foot.start_in_world = Eigen::Vector3d(-0.8, 20.0, 0.0);
+  foot.end_in_world = Eigen::Vector3d(0.8, 20.0, 0.0);
+  lines_model.lines3D[1] = step;
+  lines_model.lines3D[2] = foot;
+  MeshingInputOptions options;
+  options.line_sample_step_m = 0.1;
+  const size_t num_samples =
+      AddLineSamples(options, scene_->Model(), lines_model, nullptr, &input);
+  // Only the wall's foot is sampled: 17 samples over 1.6 m.
+  EXPECT_EQ(num_samples, 17u);
+  EXPECT_EQ(input.NumPoints(MeshingPointSource::kLine), 17u);
+  for (size_t i = 0; i < input.NumPoints(); ++i) {
+    if (input.sources[i] == MeshingPointSource::kLine) {
+      EXPECT_NEAR(input.positions[i].y(), 20.0, 0.01);
+    }
+  }
+  // Both are creases to snap to, the step's moved onto its top edge.
+  ASSERT_EQ(input.creases.size(), 2u);
+  const MeshCrease& step_crease = input.creases[0];
+  EXPECT_LT(
+      std::hypot(step_crease.start.y() - 10, step_crease.start.z() - 0.06),
+      0.005);
+  EXPECT_GT(input.crease_spacing_m, 0);
+  for (const MeshCrease& crease : input.creases) {
+    EXPECT_GT(crease.plane_band_m, 0);
+  }
 }
 
 TEST(LidarOrigins, RoundTripNamesWithSpacesAndErrors) {
