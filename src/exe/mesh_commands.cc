@@ -55,6 +55,11 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      "Sample only the 3D lines that lie on a crease of the "
                      "visual and LIDAR points, moved onto it; false samples "
                      "every line where it was estimated (the paper).");
+  options->AddOption("DelaunayMeshing.line_samples_only_in_gaps",
+                     &input->line_samples_only_in_gaps,
+                     "With validate_lines, sample a crease only where no "
+                     "visual or LIDAR point lies within the validation's "
+                     "plane band of the sample.");
   options->AddOption("DelaunayMeshing.lidar_denoise_radius_m",
                      &input->lidar_denoising.radius_m,
                      "LIDAR voxels are projected onto the plane fitted to "

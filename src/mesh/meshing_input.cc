@@ -6,15 +6,17 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 
-#include "colmap_ext/mvs/workspace.h"
 #include "colmap_ext/model/model_io.h"
+#include "colmap_ext/mvs/workspace.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
 #include "colmap_ext/util/ply.h"
 #include "colmap_ext/util/string.h"
+#include "src/mesh/radius_grid.h"
 
 namespace colmap_lidar {
 
@@ -379,6 +381,15 @@ size_t AddLineSamples(
     spacing = ValidateLines(options, input->positions, options.num_threads,
                             &segments, &plane_band_m);
   }
+  // The surface points the gaps are measured against (the line samples
+  // added below are not among them).
+  std::unique_ptr<RadiusGrid> surface_grid;
+  const size_t num_surface_points = input->positions.size();
+  if (options.validate_lines && options.line_samples_only_in_gaps &&
+      plane_band_m > 0) {
+    surface_grid = std::make_unique<RadiusGrid>(input->positions, plane_band_m);
+  }
+  size_t num_covered = 0;
   for (const auto& [line3D_id, line3D] : lines_model.lines3D) {
     const ValidatedLine& segment = segments.at(line3D_id);
     if (segment.status != LineValidationStatus::kCrease) continue;
@@ -443,6 +454,21 @@ size_t AddLineSamples(
       }
       ++num_observed_samples;
       if (!sample) continue;
+      if (surface_grid != nullptr) {
+        const Eigen::Vector3d position = start + t * (end - start);
+        bool covered = false;
+        surface_grid->ForEachNear(position, [&](uint32_t i) {
+          if (i < num_surface_points &&
+              (input->positions[i] - position).squaredNorm() <
+                  plane_band_m * plane_band_m) {
+            covered = true;
+          }
+        });
+        if (covered) {
+          ++num_covered;
+          continue;
+        }
+      }
       // Trusted like a visual point seen in as many images: the sample is
       // as well placed as the line (a few cm), no better than a fused
       // depth; a full-weight ray of each sample outweighed the dense points
@@ -474,6 +500,11 @@ size_t AddLineSamples(
   if (num_lines_used < num_kept) {
     LOG(WARNING) << num_kept - num_lines_used
                  << " 3D lines are seen by no image of the dense model";
+  }
+  if (num_covered > 0) {
+    LOG(INFO) << num_covered
+              << " line samples lie within the plane band of a surface point "
+                 "and are not used";
   }
   if (num_unobserved > 0) {
     LOG(INFO) << num_unobserved

@@ -15,7 +15,8 @@
 //   of the line (line_observations.h; given the database of the 2D
 //   segments, else every image of the track sees the whole line).
 //   By default only the segments on a crease of the visual and LIDAR points
-//   are sampled, moved onto it (line_validation.h), and not those whose
+//   are sampled, moved onto it (line_validation.h), only where the other
+//   points leave a gap (line_samples_only_in_gaps), and not those whose
 //   crease is with a step's side face (kept in `creases` for the snapping
 //   only).
 // Each point carries the free-space weight of each of its rays.
@@ -113,6 +114,13 @@ struct MeshingInputOptions {
   // points, moved onto it (line_validation.h); false samples every segment
   // where it was estimated (the paper).
   bool validate_lines = true;
+  // With validate_lines: a crease is sampled only where no surface point
+  // lies within the validation's plane band of the sample. Where the points
+  // reach the crease already, a sample adds its own placement error (the
+  // crease is known to about a centimetre) and nothing else; it fills the
+  // gaps, where the mesh would cut the corner. The snapping uses the crease
+  // either way.
+  bool line_samples_only_in_gaps = true;
   LineValidationOptions line_validation;
   // LIDAR voxels are projected onto their local plane when it is planar
   // (lidar_denoising.h); radius 0 keeps the centroids as fused.
@@ -172,8 +180,9 @@ void AddLidarPoints(const MeshingInputOptions& options,
 // a crease of the points already in `input` are sampled, moved onto it
 // (line_validation.h), and every validated segment that an image observed
 // joins input->creases; one whose crease is with a step's side face
-// (ValidatedLine::with_side_face) is not sampled. Returns the number of
-// samples added.
+// (ValidatedLine::with_side_face) is not sampled, and with
+// options.line_samples_only_in_gaps neither is a sample within the plane
+// band of a point already in `input`. Returns the number of samples added.
 size_t AddLineSamples(
     const MeshingInputOptions& options, const Reconstruction& dense_model,
     const Reconstruction& lines_model,

@@ -79,6 +79,7 @@ TEST_F(MeshingInputTest, ReadsVisualLidarAndLines) {
   // (the sparse ground, 0.2 m, leaves at most one out), and their samples
   // stay within a sixth of the point spacing (6 cm) of the true edges.
   options.validate_lines = true;
+  options.line_samples_only_in_gaps = false;
   const MeshingInput validated =
       ReadMeshingInput(options, workspace_, lines_dir);
   const size_t num_validated = validated.NumPoints(MeshingPointSource::kLine);
@@ -96,6 +97,26 @@ TEST_F(MeshingInputTest, ReadsVisualLidarAndLines) {
           distance, (offset - offset.dot(direction) * direction).norm());
     }
     EXPECT_LT(distance, 0.01) << "line sample " << i;
+  }
+  // By default only the samples with no visual or LIDAR point within the
+  // validation's plane band are kept: fewer, each in a gap of the points.
+  options.line_samples_only_in_gaps = true;
+  const MeshingInput gaps = ReadMeshingInput(options, workspace_, lines_dir);
+  ASSERT_FALSE(gaps.creases.empty());
+  const double band = gaps.creases[0].plane_band_m;
+  EXPECT_GT(band, 0);
+  const size_t num_in_gaps = gaps.NumPoints(MeshingPointSource::kLine);
+  EXPECT_GT(num_in_gaps, 0u);
+  EXPECT_LT(num_in_gaps, num_validated);
+  // The same creases to snap to.
+  EXPECT_EQ(gaps.creases.size(), validated.creases.size());
+  for (size_t i = 0; i < gaps.NumPoints(); ++i) {
+    if (gaps.sources[i] != MeshingPointSource::kLine) continue;
+    for (size_t j = 0; j < gaps.NumPoints(); ++j) {
+      if (gaps.sources[j] == MeshingPointSource::kLine) continue;
+      ASSERT_GE((gaps.positions[j] - gaps.positions[i]).norm(), band)
+          << "line sample " << i << " near surface point " << j;
+    }
   }
   // 12 cameras + 3 LIDAR origins.
   ASSERT_EQ(input.sensors.size(), 15u);
@@ -250,6 +271,7 @@ TEST_F(MeshingInputTest, CreasesWithAStepsSideFaceAreSnappedToNotSampled) {
   lines_model.lines3D[2] = foot;
   MeshingInputOptions options;
   options.line_sample_step_m = 0.1;
+  options.line_samples_only_in_gaps = false;  // Tested above.
   const size_t num_samples =
       AddLineSamples(options, scene_->Model(), lines_model, nullptr, &input);
   // Only the wall's foot is sampled: 17 samples over 1.6 m.
