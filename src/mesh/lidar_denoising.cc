@@ -1,14 +1,14 @@
 #include "src/mesh/lidar_denoising.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <unordered_map>
 
-#include <Eigen/Eigenvalues>
-
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
+#include "src/mesh/local_plane.h"
 #include "src/mesh/radius_grid.h"
 
 namespace colmap_lidar {
@@ -44,7 +44,6 @@ LidarDenoisingSummary DenoiseLidarVoxels(const LidarDenoisingOptions& options,
   if (options.radius_m == 0 || positions->empty()) return summary;
   const std::vector<Eigen::Vector3d>& input = *positions;
   const RadiusGrid grid(input, options.radius_m);
-  const double sq_radius = options.radius_m * options.radius_m;
   // Pass 1: the plane of every neighbourhood with enough voxels (normal,
   // offset of the plane from the voxel along it, variance across it).
   struct LocalPlane {
@@ -60,28 +59,15 @@ LidarDenoisingSummary DenoiseLidarVoxels(const LidarDenoisingOptions& options,
     const size_t end = std::min(input.size(), (block + 1) * size_t{kBlock});
     for (size_t i = block * size_t{kBlock}; i < end; ++i) {
       // Count-weighted first and second moments of the neighbourhood.
-      double weight_sum = 0;
-      int num_neighbors = 0;
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-      grid.ForEachNear(input[i], [&](uint32_t j) {
-        const Eigen::Vector3d offset = input[j] - input[i];
-        if (offset.squaredNorm() > sq_radius) return;
-        const double weight = std::max<uint32_t>(counts[j], 1);
-        weight_sum += weight;
-        sum += weight * offset;
-        second += weight * offset * offset.transpose();
-        ++num_neighbors;
-      });
-      if (num_neighbors < options.min_neighbors) continue;
-      const Eigen::Vector3d mean = sum / weight_sum;
-      const Eigen::Matrix3d covariance =
-          second / weight_sum - mean * mean.transpose();
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+      const NeighbourhoodMoments moments = ComputeNeighbourhoodMoments(
+          input, grid, input[i], options.radius_m, &counts);
+      if (moments.num_neighbors < options.min_neighbors) continue;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
+          moments.covariance);
       // input[i] is the origin of the offsets: the plane passes through
       // `mean`.
       planes[i].normal = solver.eigenvectors().col(0);
-      planes[i].offset = planes[i].normal.dot(mean);
+      planes[i].offset = planes[i].normal.dot(moments.mean);
       planes[i].variance = std::max(0.0, solver.eigenvalues()(0));
     }
   });

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "colmap_ext/util/logging.h"
+#include "src/mesh/local_plane.h"
 
 namespace colmap_lidar {
 namespace {
@@ -69,22 +70,11 @@ double EstimateNoise(const std::vector<Eigen::Vector3d>& points,
   const size_t stride = points.size() / num_samples;
   std::vector<double> deviations;
   for (size_t s = 0; s < num_samples; ++s) {
-    const Eigen::Vector3d& center = points[s * stride];
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    int count = 0;
-    grid.ForEachNear(center, [&](uint32_t j) {
-      const Eigen::Vector3d d = points[j] - center;
-      if (d.squaredNorm() > radius * radius) return;
-      sum += d;
-      outer += d * d.transpose();
-      ++count;
-    });
-    if (count < 6) continue;
-    const Eigen::Vector3d mean = sum / count;
-    const Eigen::Matrix3d covariance = outer / count - mean * mean.transpose();
+    const NeighbourhoodMoments moments =
+        ComputeNeighbourhoodMoments(points, grid, points[s * stride], radius);
+    if (moments.num_neighbors < 6) continue;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
-        covariance, Eigen::EigenvaluesOnly);
+        moments.covariance, Eigen::EigenvaluesOnly);
     deviations.push_back(std::sqrt(std::max(solver.eigenvalues()(0), 0.0)));
   }
   if (deviations.empty()) return 0;

@@ -381,10 +381,9 @@ size_t AddLineSamples(
     spacing = ValidateLines(options, input->positions, options.num_threads,
                             &segments, &plane_band_m);
   }
-  // The surface points the gaps are measured against (the line samples
-  // added below are not among them).
+  // The surface points the gaps are measured against (indexed before the
+  // line samples are added, so those are not among them).
   std::unique_ptr<RadiusGrid> surface_grid;
-  const size_t num_surface_points = input->positions.size();
   if (options.validate_lines && options.line_samples_only_in_gaps &&
       plane_band_m > 0) {
     surface_grid = std::make_unique<RadiusGrid>(input->positions, plane_band_m);
@@ -458,9 +457,8 @@ size_t AddLineSamples(
         const Eigen::Vector3d position = start + t * (end - start);
         bool covered = false;
         surface_grid->ForEachNear(position, [&](uint32_t i) {
-          if (i < num_surface_points &&
-              (input->positions[i] - position).squaredNorm() <
-                  plane_band_m * plane_band_m) {
+          if ((input->positions[i] - position).squaredNorm() <
+              plane_band_m * plane_band_m) {
             covered = true;
           }
         });
