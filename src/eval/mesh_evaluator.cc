@@ -249,8 +249,10 @@ MeshEvaluation EvaluateMeshFiles(
   if (!options.observed_cloud_path.empty()) {
     observed = ReadPlyPositions(options.observed_cloud_path,
                                 "MeshEvaluation.observed_cloud_path");
-    for (Eigen::Vector3d& point : observed) {
-      point = reference_from_estimate * point;
+    if (!options.observed_cloud_in_reference_frame) {
+      for (Eigen::Vector3d& point : observed) {
+        point = reference_from_estimate * point;
+      }
     }
   }
   ReferenceSurface surface;

@@ -62,6 +62,11 @@ struct MeshEvaluationOptions {
   // Reference points farther than this from the observed cloud are dropped
   // (metres, > 0).
   double observed_radius_m = 0.2;
+  // The observed cloud is in the reference's frame already (e.g. the scans
+  // fused with the true poses, so that reconstructions in different frames,
+  // a baseline's and ours, are judged on the same region); else it is in the
+  // estimate's frame and carried with it (EvaluateMeshFiles).
+  bool observed_cloud_in_reference_frame = false;
   // Margin of the precision crop box around the kept reference (metres);
   // negative disables the crop.
   double crop_margin_m = 0.5;
@@ -147,7 +152,8 @@ MeshEvaluation EvaluateMesh(const std::vector<Eigen::Vector3d>& estimate_vertice
 // evaluates; with options.edge_region_path, reads the edges and adds the
 // edge region's figures. Errors name the file.
 // `reference_from_estimate` maps the estimate and the observed cloud (both
-// in the reconstruction's world frame) into the reference's frame before
+// in the reconstruction's world frame, unless
+// options.observed_cloud_in_reference_frame) into the reference's frame before
 // the comparison: a reconstruction from noisy priors has a gauge (a rigid
 // transform, or a similarity without LIDAR) that no sensor observes, so the
 // shape is judged after the trajectory alignment of the pose evaluation, as

@@ -447,6 +447,30 @@ TEST(MeshEvaluator, AlignmentCarriesEstimateAndObservedCloud) {
   EXPECT_NEAR(static_cast<double>(aligned.num_reference_points_kept) /
                   reference.size(),
               0.5, 0.03);
+
+  // The same region given in the reference's frame (the scans fused with
+  // the true poses, shared by reconstructions in other frames) stays where
+  // it is; carried like the estimate, it would miss the square.
+  std::vector<Eigen::Vector3d> observed_in_reference;
+  for (const Eigen::Vector3d& point : reference) {
+    if (point.x() < 0.5) observed_in_reference.push_back(point);
+  }
+  const std::string observed_reference_path =
+      JoinPaths(dir, "observed_in_reference.ply");
+  testing::WriteXyzPly(observed_reference_path, observed_in_reference);
+  options.observed_cloud_path = observed_reference_path;
+  options.observed_cloud_in_reference_frame = true;
+  const MeshEvaluation shared = EvaluateMeshFiles(
+      mesh_path, reference_path, options, estimate_from_reference.inverse());
+  EXPECT_EQ(shared.num_reference_points_kept,
+            aligned.num_reference_points_kept);
+  EXPECT_NEAR(shared.recalls[0], aligned.recalls[0], 1e-12);
+  options.observed_cloud_in_reference_frame = false;
+  const MeshEvaluation carried = EvaluateMeshFiles(
+      mesh_path, reference_path, options, estimate_from_reference.inverse());
+  EXPECT_LT(
+      static_cast<double>(carried.num_reference_points_kept) / reference.size(),
+      0.4);
 }
 
 }  // namespace colmap_lidar

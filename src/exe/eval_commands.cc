@@ -72,6 +72,12 @@ void AddMeshEvaluationOptions(MeshEvaluationOptions* evaluation,
   options->AddOption("MeshEvaluation.observed_radius_m",
                      &evaluation->observed_radius_m,
                      "Radius around the observed cloud, metres, > 0.");
+  options->AddOption("MeshEvaluation.observed_cloud_in_reference_frame",
+                     &evaluation->observed_cloud_in_reference_frame,
+                     "The observed cloud is in the reference's frame (e.g. "
+                     "the scans fused with the true poses, to judge "
+                     "reconstructions in different frames on one region); "
+                     "0: in the estimate's, carried with it.");
   options->AddOption("MeshEvaluation.crop_margin_m",
                      &evaluation->crop_margin_m,
                      "Estimate points outside the bounding box of the kept "
