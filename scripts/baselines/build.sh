@@ -92,23 +92,16 @@ export_tag() {
   log "exported ${tag} ($(git -C "${src}" rev-parse --short "${tag}^{commit}")) of ${src}"
 }
 
-# with_progress LABEL CMD...: runs CMD, its output in LABEL's log, and prints
-# the elapsed time once a minute.
+source "${ROOT}/scripts/baselines/progress_lib.sh"
+# with_progress LABEL CMD...: runs CMD, its output in LABEL's log, with a
+# progress line a minute; fails naming the log.
 with_progress() {
   local label=$1; shift
   local log_file="${PREFIX}/${label}.log"
   local start=${SECONDS}
-  local last=${SECONDS}
-  "$@" > "${log_file}" 2>&1 &
-  local pid=$!
-  while kill -0 "${pid}" 2> /dev/null; do
-    sleep 5
-    if (( SECONDS - last >= 60 )); then
-      last=${SECONDS}
-      log "${label}: $(( (SECONDS - start) / 60 )) min, $(tail -n 1 "${log_file}" | cut -c1-100)"
-    fi
-  done
-  wait "${pid}" || { tail -n 30 "${log_file}" >&2; fail "${label} failed, see ${log_file}"; }
+  : > "${log_file}"
+  run_with_progress "${label}" "${log_file}" "$@" ||
+    { tail -n 30 "${log_file}" >&2; fail "${label} failed, see ${log_file}"; }
   log "${label}: done in $(( SECONDS - start )) s"
 }
 

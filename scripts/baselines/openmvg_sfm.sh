@@ -62,6 +62,15 @@ BIN="${PREFIX}/openmvg/bin"
 [[ -x "${BIN}/openMVG_main_SfM" ]] ||
   fail "no OpenMVG in ${BIN} (bash scripts/baselines/build.sh --prefix ${PREFIX} ...)"
 DATASET=$(cd "${DATASET}" && pwd)
+# The camera first: bad input fails before the output is touched.
+CAMERA=$(python3 - "${DATASET}/calibration.yaml" 2> /dev/null <<'EOF'
+import re, sys
+block = open(sys.argv[1]).read().split("camera:", 1)[1]
+get = lambda key: re.search(r"\n\s+" + key + r":\s*([^\n#]+)", block).group(1).strip()
+print(get("model"), get("width"), get("height"))
+EOF
+) || fail "${DATASET}/calibration.yaml has no camera block with model, width and height"
+read -r MODEL W H <<< "${CAMERA}"
 
 # A fresh output: nothing of an earlier run is mixed in.
 rm -rf "${OUTPUT}"
@@ -69,21 +78,15 @@ mkdir -p "${OUTPUT}/matches"
 OUTPUT=$(cd "${OUTPUT}" && pwd)
 LOG="${OUTPUT}/log.txt"
 START=${SECONDS}
+source "${ROOT}/scripts/baselines/progress_lib.sh"
 step() {  # step NAME CMD...: runs CMD into the log, fails naming the step
   local name=$1; shift
   log "${name}"
   echo "== ${name}: $*" >> "${LOG}"
-  "$@" >> "${LOG}" 2>&1 || { tail -n 20 "${LOG}" >&2; fail "${name} failed (log ${LOG})"; }
+  run_with_progress "${name}" "${LOG}" "$@" ||
+    { tail -n 20 "${LOG}" >&2; fail "${name} failed (log ${LOG})"; }
 }
 
-read -r MODEL W H < <(python3 - "${DATASET}/calibration.yaml" <<'EOF'
-import re, sys
-text = open(sys.argv[1]).read()
-block = text.split("camera:", 1)[1]
-get = lambda key: re.search(r"\n\s+" + key + r":\s*([^\n#]+)", block).group(1).strip()
-print(get("model"), get("width"), get("height"))
-EOF
-)
 case "${MODEL}" in
   SIMPLE_PINHOLE|PINHOLE) CAMERA_MODEL=1 ;;
   SIMPLE_RADIAL) CAMERA_MODEL=2 ;;

@@ -48,21 +48,14 @@ mkdir -p "${OUTPUT}"
 OUTPUT=$(cd "${OUTPUT}" && pwd)
 LOG="${OUTPUT}/log.txt"
 : > "${OUTPUT}/time.txt"
+source "${ROOT}/scripts/baselines/progress_lib.sh"
 step() {  # step NAME CMD...: runs CMD into the log with a progress line a minute
   local name=$1; shift
   log "${name}"
   echo "== ${name}: $*" >> "${LOG}"
-  local start=${SECONDS} last=${SECONDS}
-  "$@" >> "${LOG}" 2>&1 &
-  local pid=$!
-  while kill -0 "${pid}" 2> /dev/null; do
-    sleep 2
-    if (( SECONDS - last >= 60 )); then
-      last=${SECONDS}
-      log "${name}: $(( SECONDS - start )) s"
-    fi
-  done
-  wait "${pid}" || { tail -n 20 "${LOG}" >&2; fail "${name} failed (log ${LOG})"; }
+  local start=${SECONDS}
+  run_with_progress "${name}" "${LOG}" "$@" ||
+    { tail -n 20 "${LOG}" >&2; fail "${name} failed (log ${LOG})"; }
   echo "${name} $(( SECONDS - start ))" >> "${OUTPUT}/time.txt"
 }
 
