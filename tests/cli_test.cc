@@ -1,16 +1,18 @@
 // Runs the real build/colmap-lidar executable: command dispatch, help,
 // option errors and the INI presets of configs/.
+#include <gtest/gtest.h>
+
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/string.h"
@@ -42,25 +44,70 @@ bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-// The "Section.name" keys of an INI text, comments and blanks skipped.
-std::set<std::string> IniKeys(const std::string& text) {
-  std::set<std::string> keys;
+// An INI option: its value and the comment lines above it (the help text
+// `--check_options` writes), joined by spaces.
+struct IniEntry {
+  std::string value;
+  std::string comment;
+};
+
+// The "Section.name" options of an INI text; blanks skipped.
+std::map<std::string, IniEntry> IniEntries(const std::string& text) {
+  std::map<std::string, IniEntry> entries;
   std::string section;
+  std::string comment;
   std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line)) {
     line = StringTrim(line);
-    if (line.empty() || line[0] == '#') {
+    if (line.empty()) {
+      continue;
+    }
+    if (line[0] == '#') {
+      comment += (comment.empty() ? "" : " ") + StringTrim(line.substr(1));
       continue;
     }
     if (line.front() == '[' && line.back() == ']') {
       section = line.substr(1, line.size() - 2);
+      comment.clear();
       continue;
     }
-    const std::string key = StringTrim(line.substr(0, line.find('=')));
-    keys.insert(section.empty() ? key : section + "." + key);
+    const size_t equals = line.find('=');
+    const std::string key = StringTrim(line.substr(0, equals));
+    IniEntry& entry = entries[section.empty() ? key : section + "." + key];
+    entry.value =
+        equals == std::string::npos ? "" : StringTrim(line.substr(equals + 1));
+    entry.comment = comment;
+    comment.clear();
+  }
+  return entries;
+}
+
+// The "Section.name" keys of an INI text, comments and blanks skipped.
+std::set<std::string> IniKeys(const std::string& text) {
+  std::set<std::string> keys;
+  for (const auto& [key, entry] : IniEntries(text)) {
+    keys.insert(key);
   }
   return keys;
+}
+
+// The command a preset is for, from the first line that `--check_options`
+// writes: "# colmap-lidar <command> options; load with --project_path."
+std::string PresetCommand(const std::string& text) {
+  const std::string prefix = "# colmap-lidar ";
+  const std::string first_line = text.substr(0, text.find('\n'));
+  if (!StringStartsWith(first_line, prefix)) {
+    return "";
+  }
+  const std::string rest = first_line.substr(prefix.size());
+  return rest.substr(0, rest.find_first_of(" :"));
+}
+
+std::string Lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return text;
 }
 
 // The command names listed by `colmap-lidar help`, with their descriptions.
@@ -227,8 +274,9 @@ TEST(Cli, ImportsKittiSampleAndWritesReloadableIni) {
       << reloaded.output;
 }
 
-// Every preset in configs/ belongs to a command, parses with it, and lists
-// exactly that command's options.
+// Every preset in configs/ belongs to a command (its first line names it),
+// parses with it and lists exactly that command's options. A preset named
+// after its command holds the defaults; any other (paper.ini) changes some.
 TEST(Cli, EveryPresetParsesAndIsComplete) {
   const std::string configs = JoinPaths(testing::SourceDir(), "configs");
   int num_presets = 0;
@@ -237,8 +285,14 @@ TEST(Cli, EveryPresetParsesAndIsComplete) {
       continue;
     }
     ++num_presets;
-    const std::string command = entry.path().stem().string();
     const std::string preset = entry.path().string();
+    const std::string text = ReadTextFile(preset);
+    const std::string command = PresetCommand(text);
+    if (command.empty()) {
+      ADD_FAILURE() << preset << " does not start with \"# colmap-lidar "
+                    << "<command> options\"";
+      continue;
+    }
     const Result parsed = RunCli(command + " --check_options --project_path " +
                                  Quote(preset));
     EXPECT_EQ(parsed.exit_code, 0) << preset << "\n" << parsed.output;
@@ -248,12 +302,90 @@ TEST(Cli, EveryPresetParsesAndIsComplete) {
       ADD_FAILURE() << preset << " names no command:\n" << defaults.output;
       continue;
     }
-    EXPECT_EQ(IniKeys(ReadTextFile(preset)), IniKeys(defaults.output))
+    EXPECT_EQ(IniKeys(text), IniKeys(defaults.output))
         << preset << " does not list the options of `" << command << "`";
-    // The preset holds the defaults.
-    EXPECT_EQ(parsed.output, defaults.output) << preset;
+    if (entry.path().stem().string() == command) {
+      EXPECT_EQ(parsed.output, defaults.output) << preset;
+    } else {
+      EXPECT_NE(parsed.output, defaults.output) << preset;
+    }
   }
-  EXPECT_GE(num_presets, 1);
+  EXPECT_GE(num_presets, 2);
+}
+
+// configs/paper.ini is the method as published: it differs from the
+// defaults only in options whose help says that they are not in the paper,
+// and in every such switch the ablation turns (issue 21).
+TEST(Cli, PaperPresetTurnsOffOnlyExtensions) {
+  const std::string preset =
+      JoinPaths(testing::SourceDir(), "configs/paper.ini");
+  ASSERT_EQ(PresetCommand(ReadTextFile(preset)), "automatic_reconstructor");
+  const Result paper =
+      RunCli("automatic_reconstructor --check_options --project_path " +
+             Quote(preset));
+  ASSERT_EQ(paper.exit_code, 0) << paper.output;
+  const Result defaults = RunCli("automatic_reconstructor --check_options");
+  ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
+
+  const std::map<std::string, IniEntry> paper_entries =
+      IniEntries(paper.output);
+  const std::map<std::string, IniEntry> default_entries =
+      IniEntries(defaults.output);
+  std::set<std::string> changed;
+  for (const auto& [key, entry] : default_entries) {
+    const auto it = paper_entries.find(key);
+    ASSERT_NE(it, paper_entries.end()) << key;
+    if (it->second.value == entry.value) {
+      continue;
+    }
+    changed.insert(key);
+    EXPECT_TRUE(Contains(Lowercase(entry.comment), "not in the paper"))
+        << key << "=" << it->second.value << " (default " << entry.value
+        << ") is changed by paper.ini, but its help does not say that the "
+        << "default is an extension: " << entry.comment;
+  }
+  for (const char* key :
+       {"LidarMapper.init_method", "LineBundleAdjustment.lambda_lidar",
+        "LineMatching.min_overlap", "LidarFusion.free_space_filter",
+        "LidarPatchMatch.lidar_prior_weight", "DelaunayMeshing.validate_lines",
+        "DelaunayMeshing.snap_to_creases"}) {
+    EXPECT_EQ(changed.count(key), 1) << key << " is not turned off";
+  }
+  // The paper's own terms stay on.
+  EXPECT_EQ(paper_entries.at("LineBundleAdjustment.lambda_L").value, "1");
+  EXPECT_EQ(paper_entries.at("AutomaticReconstruction.mesh_with_lines").value,
+            "true");
+  EXPECT_EQ(paper_entries.at("LidarPatchMatch.init").value, "lidar");
+}
+
+// The paper preset runs the whole pipeline (synthesize to mesh) on a small
+// scene, with the paper's SfM (the stock mapper's model, one round) and its
+// PatchMatch (no LIDAR view in the geometric filter). The figures of the
+// preset on the benchmark matrix: docs/benchmarks/ablation.md.
+TEST(Cli, PaperPresetReconstructsASmallScene) {
+  const std::string workspace = JoinPaths(testing::CreateTestDir(), "ws");
+  const Result result =
+      RunCli("automatic_reconstructor --project_path " +
+             Quote(JoinPaths(testing::SourceDir(), "configs/paper.ini")) +
+             " --workspace_path " + Quote(workspace) +
+             " --AutomaticReconstruction.stages synthesize:mesh"
+             " --AutomaticReconstruction.num_threads 2"
+             " --AutomaticReconstruction.dense_image_step 2"
+             " --AutomaticReconstruction.fusion_min_num_pixels 3"
+             " --AutomaticReconstruction.dense_max_image_size 320"
+             " --LidarFusion.voxel_size_m 0.1"
+             " --Synthesis.num_frames 16 --Synthesis.path_fraction 0.16"
+             " --Synthesis.supersampling 1 --Synthesis.lidar_columns 512"
+             " --Synthesis.survey_num_stations 0"
+             " --Synthesis.write_depth_maps false");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_TRUE(ExistsDir(JoinPaths(workspace, "sparse/lidar_mapper/mapper/0")));
+  EXPECT_TRUE(ExistsFile(JoinPaths(workspace, "sparse/refined/lines3D.bin")));
+  EXPECT_TRUE(ExistsFile(JoinPaths(workspace, "dense/meshed-delaunay.ply")));
+  const std::string stages =
+      ReadTextFile(JoinPaths(workspace, "pipeline/stages.json"));
+  EXPECT_TRUE(Contains(stages, "1 iterations")) << stages;
+  EXPECT_TRUE(Contains(stages, "0.0 % images and LIDAR")) << stages;
 }
 
 // Every command with options of its own has its preset in configs/.

@@ -30,25 +30,25 @@ void AddLineMatchingOptions(LineMatchingOptions* o, OptionManager* options) {
                      "256 disables it.");
   options->AddOption(s + "min_overlap", &o->min_overlap,
                      "Extra criterion: overlap along the line / shorter "
-                     "segment, [0, 1]; 0 disables it.");
+                     "segment, [0, 1]; 0 disables it. Not in the paper.");
   options->AddOption(s + "max_rival_score_ratio", &o->max_rival_score_ratio,
                      "Extra criterion: drop the match when a segment side by "
                      "side with it scores within this ratio, (0, 1]; 1 "
-                     "disables it.");
+                     "disables it. Not in the paper.");
   options->AddOption(s + "pose_sigma_t_m", &o->pose_sigma_t_m,
                      "Prior pose uncertainty: camera centre std per axis, "
                      "metres, >= 0 (0: exact poses).");
   options->AddOption(s + "pose_sigma_r_deg", &o->pose_sigma_r_deg,
                      "Prior pose uncertainty: rotation std, degrees, >= 0.");
-  options->AddOption(s + "pose_uncertainty_scale",
-                     &o->pose_uncertainty_scale,
+  options->AddOption(s + "pose_uncertainty_scale", &o->pose_uncertainty_scale,
                      "Thresholds grow by this many relative-pose standard "
-                     "deviations, >= 0.");
+                     "deviations, >= 0; 0: fixed thresholds. Not in the "
+                     "paper.");
   options->AddOption(s + "refine_relative_poses", &o->refine_relative_poses,
                      "With pose_sigma_* > 0: register the view pairs on "
                      "their 3D segments, correct the poses by a robust pose "
                      "graph, then match with the exact-pose thresholds "
-                     "between views it connects, 0/1.");
+                     "between views it connects, 0/1. Not in the paper.");
   options->AddOption(s + "relative_pose_min_inliers",
                      &o->relative_pose_min_inliers,
                      "Inlier segments a pair registration needs, >= 2.");

@@ -50,11 +50,11 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      &input->line_sample_step_m,
                      "Spacing of the samples along a 3D line segment, "
                      "metres, > 0.");
-  options->AddOption("DelaunayMeshing.validate_lines",
-                     &input->validate_lines,
+  options->AddOption("DelaunayMeshing.validate_lines", &input->validate_lines,
                      "Sample only the 3D lines that lie on a crease of the "
-                     "visual and LIDAR points, moved onto it; false samples "
-                     "every line where it was estimated (the paper).");
+                     "visual and LIDAR points, moved onto it (not in the "
+                     "paper); false samples every line where it was "
+                     "estimated (the paper).");
   options->AddOption("DelaunayMeshing.line_samples_only_in_gaps",
                      &input->line_samples_only_in_gaps,
                      "With validate_lines, sample a crease only where no "
@@ -64,7 +64,8 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      &input->lidar_denoising.radius_m,
                      "LIDAR voxels are projected onto the plane fitted to "
                      "the voxels within this radius when that neighbourhood "
-                     "is planar, metres; 0 disables. >= 0.");
+                     "is planar, metres; 0 disables. >= 0. Not in the "
+                     "paper.");
   options->AddOption("DelaunayMeshing.lidar_denoise_max_plane_std_m",
                      &input->lidar_denoising.max_plane_std_m,
                      "A neighbourhood is planar when its standard deviation "
@@ -104,7 +105,7 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      "A LIDAR voxel closer than this to a visual or line "
                      "vertex is merged into it (the LIDAR-initialised depth "
                      "maps refine the voxel there), metres; 0 inserts all. "
-                     ">= 0.");
+                     ">= 0. Not in the paper.");
   options->AddOption("DelaunayMeshing.distance_sigma_factor",
                      &meshing->distance_sigma_factor,
                      "Free-space weight falloff sigma near a point, relative "
@@ -133,7 +134,8 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
   options->AddOption("DelaunayMeshing.snap_to_creases",
                      &meshing->snap_to_creases,
                      "Move the mesh's vertices near the creases of the "
-                     "validated 3D lines onto the creases' two faces.");
+                     "validated 3D lines onto the creases' two faces. Not "
+                     "in the paper.");
   options->AddOption("DelaunayMeshing.crease_radius_factor",
                      &meshing->crease_snapping.radius_factor,
                      "Vertices within this many point spacings of a crease "

@@ -39,7 +39,7 @@ void AddLidarFusionOptions(LidarFusionOptions* o, OptionManager* options) {
   options->AddOption(s + "free_space_filter", &o->free_space.enabled,
                      "Drop voxels that other scans see through (moving "
                      "objects: their rays return from beyond the voxel), "
-                     "0/1.");
+                     "0/1. Not in the paper.");
   options->AddOption(s + "free_space_neighborhood_ring_gaps",
                      &o->free_space.neighborhood_ring_gaps,
                      "Free-space test: the nearest return within this many "
@@ -75,7 +75,8 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddOption(s + "lidar_covisibility_weight",
                      &o->lidar_covisibility_weight,
                      "Source score: weight of a shared LIDAR voxel vs a "
-                     "shared sparse point, >= 0.");
+                     "shared sparse point, >= 0; 0 = COLMAP's score. Not in "
+                     "the paper.");
   options->AddOption(s + "far_propagation", &o->far_propagation,
                      "Propagation strips of 15 instead of 7 pixels, 0/1.");
   options->AddOption(s + "num_iterations", &o->num_iterations,
@@ -105,13 +106,15 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddOption(s + "visible_sources_only", &o->visible_sources_only,
                      "n of the cost and the views the geometric filter asks "
                      "for count only the sources whose image contains the "
-                     "point (and the LIDAR).");
+                     "point (and the LIDAR). Not in the paper or COLMAP.");
   options->AddOption(s + "source_plane_depth", &o->source_plane_depth,
                      "The geometric term and filter read a source's depth "
                      "at the sub-pixel projection from its nearest pixel's "
                      "plane, not that pixel's depth (not in the paper).");
   options->AddOption(s + "lidar_prior_weight", &o->lidar_prior_weight,
-                     "Soft LIDAR prior weight in the cost; 0: off.");
+                     "Soft LIDAR prior weight in the cost; 0: off (the "
+                     "paper: the LIDAR only initialises). Not in the "
+                     "paper.");
   options->AddOption(s + "lidar_prior_tolerance", &o->lidar_prior_tolerance,
                      "Relative depth deviation at which the prior term "
                      "saturates, > 0.");
@@ -136,7 +139,8 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      "A triangle of LIDAR samples whose longest 3D edge over "
                      "its depth exceeds this times the view's median is not "
                      "interpolated (space the LIDAR did not sample, e.g. "
-                     "sky between wall tops), >= 0; 0: all are.");
+                     "sky between wall tops), >= 0; 0: all are. Not in the "
+                     "paper.");
   options->AddOption(s + "init_extrapolate_planes",
                      &o->init_extrapolate_planes,
                      "Pixels outside the interpolated samples start from the "
@@ -164,7 +168,7 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
   options->AddOption(s + "filter_lidar_as_view", &o->filter_lidar_as_view,
                      "Geometric maps, init lidar: agreeing with the "
                      "interpolated LIDAR depth counts as one consistent "
-                     "view.");
+                     "view. Not in the paper.");
   options->AddOption(s + "filter_lidar_max_relative_depth_error",
                      &o->filter_lidar_max_relative_depth_error,
                      "... within this relative depth error of it, > 0.");

@@ -92,6 +92,10 @@ int RunAutomaticReconstructorCommand(int argc, char** argv) {
   // The stages' own sections; their thread counts and colmap binaries are
   // replaced by AutomaticReconstruction.num_threads / colmap_binary.
   AddLidarMapperOptions(&pipeline_options.mapper, &options);
+  LineBundleAdjustmentNames adjustment_names;
+  AddLineBundleAdjustmentOptions(&pipeline_options.mapper.adjustment,
+                                 &adjustment_names,
+                                 /*with_gauge_and_priors=*/false, &options);
   AddLidarFusionOptions(&pipeline_options.lidar_fusion, &options);
   AddLidarPatchMatchOptions(&pipeline_options.patch_match, &options);
   AddDelaunayMeshingOptions(&pipeline_options.meshing,

@@ -15,19 +15,13 @@
 #include "src/sfm/workspace_line_adjustment.h"
 
 namespace colmap_lidar {
-namespace {
 
-// Section [LineBundleAdjustment]; keep configs/line_bundle_adjuster.ini and
-// configs/lidar_mapper.ini in step. The enums are read as names.
-struct AdjustmentNames {
-  std::string point_loss_type;
-  std::string line_loss_type;
-  std::string lidar_loss_type;
-  std::string gauge;
-};
-
-void AddAdjustmentOptions(LineBundleAdjustmentOptions* o, AdjustmentNames* n,
-                          bool with_gauge_and_priors, OptionManager* options) {
+// Section [LineBundleAdjustment]; keep configs/line_bundle_adjuster.ini,
+// configs/lidar_mapper.ini and configs/automatic_reconstructor.ini in step.
+void AddLineBundleAdjustmentOptions(LineBundleAdjustmentOptions* o,
+                                    LineBundleAdjustmentNames* n,
+                                    bool with_gauge_and_priors,
+                                    OptionManager* options) {
   const std::string s = "LineBundleAdjustment.";
   n->point_loss_type = LineBALossTypeName(o->point_loss_type);
   n->line_loss_type = LineBALossTypeName(o->line_loss_type);
@@ -39,7 +33,7 @@ void AddAdjustmentOptions(LineBundleAdjustmentOptions* o, AdjustmentNames* n,
                      "Weight of the line reprojection errors (eq. 3), >= 0.");
   options->AddOption(s + "lambda_lidar", &o->lambda_lidar,
                      "Weight of the LIDAR line residuals (metric scale), "
-                     ">= 0.");
+                     ">= 0; 0 = eq. 3 as published. Not in the paper.");
   options->AddOption(s + "lidar_sigma_m", &o->lidar_sigma_m,
                      "LIDAR endpoint noise, metres, > 0.");
   options->AddOption(s + "point_loss_type", &n->point_loss_type,
@@ -56,7 +50,8 @@ void AddAdjustmentOptions(LineBundleAdjustmentOptions* o, AdjustmentNames* n,
                      "LIDAR loss scale, in lidar_sigma_m units, > 0.");
   options->AddOption(s + "lidar_edge_weight", &o->lidar_edge_weight,
                      "Weight of the LIDAR registration edges (lidar_mapper "
-                     "with init_method lidar_graph), >= 0; 0 = off.");
+                     "with init_method lidar_graph), >= 0; 0 = off. Not in "
+                     "the paper.");
   options->AddOption(s + "lidar_edge_loss_scale", &o->lidar_edge_loss_scale,
                      "Cauchy loss scale of the LIDAR edges, whitened units "
                      "(sigmas), > 0.");
@@ -118,8 +113,6 @@ void AddAdjustmentOptions(LineBundleAdjustmentOptions* o, AdjustmentNames* n,
   });
 }
 
-}  // namespace
-
 // Section [LidarMapper]; keep configs/lidar_mapper.ini in step.
 void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
   const std::string s = "LidarMapper.";
@@ -155,7 +148,8 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "the priors), model (init_model_path instead of the "
                      "mapper), priors, or lidar_graph (a pose graph of "
                      "LIDAR scan registrations between consecutive and "
-                     "nearby frames with the priors as unary factors).");
+                     "nearby frames with the priors as unary factors; not "
+                     "in the paper, whose SfM is the mapper's).");
   options->AddOption(s + "lidar_edge_noise", &o->lidar_graph.edge_noise.enabled,
                      "init_method lidar_graph: measure the registration "
                      "edges' noise per sensor axis from the graph's loop "
@@ -193,14 +187,16 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
   options->AddOption(s + "mapper_num_attempts", &o->mapper_num_attempts,
                      "Stock mapper runs (random seeds 0, 1, ...) until one "
                      "model agrees with the priors, >= 1.");
-  options->AddOption(s + "register_pending_images",
-                     &o->register_pending_images,
+  options->AddOption(s + "register_pending_images", &o->register_pending_images,
                      "Images the mapper registered outside a consensus are "
                      "registered by stock image_registrator against each "
                      "iteration's points (pose kept if within its prior's "
-                     "99.9 % region) instead of staying out, 0/1.");
+                     "99.9 % region) instead of staying out, 0/1. Not in "
+                     "the paper.");
   options->AddOption(s + "max_num_iterations", &o->max_num_iterations,
-                     "Triangulate / associate / adjust rounds, >= 1.");
+                     "Triangulate / associate / adjust rounds, >= 1; more "
+                     "than 1 (association again on the adjusted poses) is "
+                     "not in the paper.");
   options->AddOption(s + "max_position_change_m", &o->max_position_change_m,
                      "Converged when no camera centre moves more, metres.");
   options->AddOption(s + "max_rotation_change_deg",
@@ -235,10 +231,10 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      &o->prior_rotation_sigma_deg,
                      "RMS angle of the orientation priors, degrees, > 0 "
                      "(per-axis sigma = this / sqrt(3)).");
-  options->AddOption(s + "max_prior_outlier_ratio",
-                     &o->max_prior_outlier_ratio,
+  options->AddOption(s + "max_prior_outlier_ratio", &o->max_prior_outlier_ratio,
                      "An iteration leaving more images outside the 99.9 % "
-                     "region of their priors is undone, [0, 1].");
+                     "region of their priors is undone, [0, 1]; 1 never "
+                     "undoes one. Not in the paper.");
   // The association thresholds most worth tuning; the others keep their
   // defaults (see line_matcher).
   const std::string m = "LineMatching.";
@@ -251,11 +247,23 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
   options->AddOption(m + "t_LBD", &o->matching.t_LBD,
                      "Algorithm 1 t_LBD, bits; 256 disables it.");
   options->AddOption(m + "min_overlap", &o->matching.min_overlap,
-                     "Overlap along the line / shorter segment, [0, 1].");
+                     "Overlap along the line / shorter segment, [0, 1]; 0 "
+                     "= Algorithm 1 as published. Not in the paper.");
   options->AddOption(m + "pose_uncertainty_scale",
                      &o->matching.pose_uncertainty_scale,
                      "Thresholds grow by this many pose standard "
-                     "deviations, >= 0.");
+                     "deviations, >= 0; 0 = fixed thresholds as published. "
+                     "Not in the paper.");
+  options->AddOption(m + "max_rival_score_ratio",
+                     &o->matching.max_rival_score_ratio,
+                     "A view's best match is dropped when a segment side by "
+                     "side with it scores below best / this, (0, 1]; 1 = "
+                     "off. Not in the paper.");
+  options->AddOption(m + "refine_relative_poses",
+                     &o->matching.refine_relative_poses,
+                     "Register overlapping views on their 3D segments and "
+                     "correct the poses by a robust pose graph before "
+                     "Algorithm 1, 0/1. Not in the paper.");
   options->AddOption(m + "min_track_length", &o->matching.min_track_length,
                      "Tracks with fewer observations are dropped, >= 2.");
   options->AddCheck([o] { return o->Check(); });
@@ -264,7 +272,7 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
 int RunLineBundleAdjuster(int argc, char** argv) {
   WorkspaceLineAdjustmentPaths paths;
   LineBundleAdjustmentOptions adjustment;
-  AdjustmentNames names;
+  LineBundleAdjustmentNames names;
 
   OptionManager options;
   options.AddRequiredOption("database_path", &paths.database_path,
@@ -279,8 +287,8 @@ int RunLineBundleAdjuster(int argc, char** argv) {
   options.AddOption("export_ply_path", &paths.lines_ply_path,
                     "PLY line set of the refined 3D segments; empty: "
                     "<output_path>/lines3D.ply.");
-  AddAdjustmentOptions(&adjustment, &names, /*with_gauge_and_priors=*/true,
-                       &options);
+  AddLineBundleAdjustmentOptions(&adjustment, &names,
+                                 /*with_gauge_and_priors=*/true, &options);
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
   }
@@ -304,7 +312,7 @@ int RunLidarMapperCommand(int argc, char** argv) {
   LidarMapperPaths paths;
   std::string dataset_path;
   LidarMapperOptions mapper_options;
-  AdjustmentNames names;
+  LineBundleAdjustmentNames names;
 
   OptionManager options;
   options.AddRequiredOption("workspace_path", &paths.workspace_path,
@@ -324,8 +332,8 @@ int RunLidarMapperCommand(int argc, char** argv) {
                     "PLY of the final 3D segments; default "
                     "<output_path>/lines3D.ply.");
   AddLidarMapperOptions(&mapper_options, &options);
-  AddAdjustmentOptions(&mapper_options.adjustment, &names,
-                       /*with_gauge_and_priors=*/false, &options);
+  AddLineBundleAdjustmentOptions(&mapper_options.adjustment, &names,
+                                 /*with_gauge_and_priors=*/false, &options);
   if (!options.Parse(argc, argv)) {
     return options.ExitCode();
   }

@@ -17,6 +17,7 @@
 #include "colmap_ext/util/string.h"
 #include "src/dataset/poses.h"
 #include "src/eval/pose_evaluator.h"
+#include "src/mvs/dense_cameras.h"
 #include "src/mvs/lidar_patch_match_stereo.h"
 #include "src/pipeline/pipeline_evaluation.h"
 #include "src/pipeline/report.h"
@@ -152,6 +153,7 @@ std::string RunSfmStage(const PipelineContext& context) {
   LidarMapperOptions options = context.options->mapper;
   options.colmap_binary = context.options->colmap_binary;
   options.num_threads = context.options->num_threads;
+  options.adjustment.num_threads = context.options->num_threads;
   LidarMapperPaths mapper_paths;
   mapper_paths.workspace_path = paths.workspace;
   mapper_paths.database_path = paths.database;
@@ -190,6 +192,9 @@ std::string RunDenseStage(const PipelineContext& context) {
               {"output_path", staged.path()},
               {"output_type", "COLMAP"},
               {"max_image_size", std::to_string(options.dense_max_image_size)}});
+  if (options.dense_max_image_size > 0) {
+    ScaleDenseCamerasToImages(staged.path());
+  }
   if (options.dense_image_step > 1) {
     ThinDenseReferences(staged.path(), options.dense_image_step);
   }
