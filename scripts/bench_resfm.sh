@@ -72,6 +72,7 @@ db.commit()' "${out}/ws/database.db"
       evaluate "${out}/ws/sparse/refined" "${gt}" sim3_axes "${out}/poses_sim3_axes.json" &&
       evaluate "${out}/ws/sparse/refined" "${gt}" none "${out}/poses_none.json"; } \
       > "${out}/log" 2>&1 || { log "${cell}: failed (see ${out}/log)"; continue; }
+    echo $(( $(date +%s) - start )) > "${out}/wall_seconds"
     log "${cell}/$(basename "${run}"): done in $(( $(date +%s) - start )) s"
   done
 done

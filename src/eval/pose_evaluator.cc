@@ -183,6 +183,39 @@ PoseEvaluation EvaluatePoses(const Reconstruction& estimate,
   evaluation.position_stats_m = ComputeErrorStats(position_errors);
   evaluation.rotation_stats_deg = ComputeErrorStats(rotation_errors);
 
+  // Relative pose error per step, in ground-truth order.
+  std::vector<int> match_of_frame(ground_truth.size(), -1);
+  for (size_t k = 0; k < matches.size(); ++k) {
+    match_of_frame[matches[k].second] = static_cast<int>(k);
+  }
+  std::vector<double> step_translation_errors;
+  std::vector<double> step_rotation_errors;
+  for (size_t i = 0; i + 1 < ground_truth.size(); ++i) {
+    const int a = match_of_frame[i];
+    const int b = match_of_frame[i + 1];
+    if (a < 0 || b < 0) {
+      continue;
+    }
+    const Eigen::Quaterniond gt_a = ground_truth[i].world_from_cam.rotation;
+    const Eigen::Quaterniond gt_b = ground_truth[i + 1].world_from_cam.rotation;
+    const Eigen::Quaterniond est_a =
+        estimate.images[matches[a].first].cam_from_world.rotation.conjugate();
+    const Eigen::Quaterniond est_b =
+        estimate.images[matches[b].first].cam_from_world.rotation.conjugate();
+    const Eigen::Vector3d gt_step =
+        gt_a.conjugate() * (centers_gt.col(b) - centers_gt.col(a));
+    const Eigen::Vector3d est_step =
+        evaluation.scale *
+        (est_a.conjugate() * (centers_est.col(b) - centers_est.col(a)));
+    step_translation_errors.push_back((gt_step - est_step).norm());
+    step_rotation_errors.push_back(
+        RotationAngleDeg((gt_a.conjugate() * gt_b).normalized(),
+                         (est_a.conjugate() * est_b).normalized()));
+  }
+  evaluation.step_translation_stats_m =
+      ComputeErrorStats(step_translation_errors);
+  evaluation.step_rotation_stats_deg = ComputeErrorStats(step_rotation_errors);
+
   const double num_frames = static_cast<double>(ground_truth.size());
   evaluation.position_thresholds_m = options.position_thresholds_m;
   evaluation.rotation_thresholds_deg = options.rotation_thresholds_deg;
@@ -237,6 +270,18 @@ std::string FormatPoseEvaluation(const PoseEvaluation& evaluation) {
   out << line;
   std::snprintf(line, sizeof(line), "  %-14s %12.6f %12.6f %12.6f %12.6f\n",
                 "rotation [deg]", r.mean, r.median, r.rmse, r.max);
+  out << line;
+  const ErrorStats& st = evaluation.step_translation_stats_m;
+  const ErrorStats& sr = evaluation.step_rotation_stats_deg;
+  std::snprintf(line, sizeof(line),
+                "  per step (%zu steps between consecutive frames):\n",
+                st.count);
+  out << line;
+  std::snprintf(line, sizeof(line), "  %-14s %12.6f %12.6f %12.6f %12.6f\n",
+                "step trans [m]", st.mean, st.median, st.rmse, st.max);
+  out << line;
+  std::snprintf(line, sizeof(line), "  %-14s %12.6f %12.6f %12.6f %12.6f\n",
+                "step rot [deg]", sr.mean, sr.median, sr.rmse, sr.max);
   out << line;
   out << "  recall (share of ground-truth frames):\n";
   const size_t rows = std::max(evaluation.position_thresholds_m.size(),
@@ -302,6 +347,10 @@ void WritePoseEvaluationJson(const std::string& path,
   json["num_unmatched_images"] = evaluation.num_unmatched_images;
   json["position_error_m"] = StatsToJson(evaluation.position_stats_m);
   json["rotation_error_deg"] = StatsToJson(evaluation.rotation_stats_deg);
+  json["step_translation_error_m"] =
+      StatsToJson(evaluation.step_translation_stats_m);
+  json["step_rotation_error_deg"] =
+      StatsToJson(evaluation.step_rotation_stats_deg);
   json["position_thresholds_m"] = evaluation.position_thresholds_m;
   json["position_recalls"] = evaluation.position_recalls;
   json["rotation_thresholds_deg"] = evaluation.rotation_thresholds_deg;

@@ -21,6 +21,17 @@
 // recall 0.5: position recall at t = #(position error < t) / #GT frames,
 // rotation recall likewise, and the paired recall at (t_pos[k], t_rot[k])
 // requires both (when both lists have the same length).
+//
+// Relative pose error per step (evo's RPE with a delta of one frame):
+// between consecutive ground-truth frames that both have an image, the
+// estimate's motion against the true one, in the first frame's camera,
+//   translation error = |R_gt_i^T (c_gt_j - c_gt_i)
+//                        - s R_est_i^T (c_est_j - c_est_i)|       (metres)
+//   rotation error    = angle of (R_gt_i^T R_gt_j)^T R_est_i^T R_est_j
+// with R the world_from_cam rotations and s the alignment's scale (1 for
+// none, se3, se3_axes). The alignment's rotation and translation cancel:
+// the step errors show drift and jitter that an alignment of the whole
+// trajectory averages away. A step across a missing frame is not counted.
 #pragma once
 
 #include <string>
@@ -82,6 +93,9 @@ struct PoseEvaluation {
   std::vector<ImagePoseError> errors;
   ErrorStats position_stats_m;
   ErrorStats rotation_stats_deg;
+  // Relative pose error per step (see the top of this file).
+  ErrorStats step_translation_stats_m;
+  ErrorStats step_rotation_stats_deg;
 
   std::vector<double> position_thresholds_m;
   std::vector<double> position_recalls;

@@ -93,11 +93,25 @@ TEST(PoseEvaluator, Sim3AlignmentRemovesASimilarity) {
   EXPECT_NEAR(sim3.scale, 1.0 / s, 1e-9);
   EXPECT_TRUE(sim3.rotation.isApprox(
       rotation.conjugate().toRotationMatrix(), 1e-9));
-  // Without alignment the errors are large.
+  // The steps are exact once scaled; their rotations need no alignment.
+  EXPECT_EQ(sim3.step_translation_stats_m.count, 5u);
+  EXPECT_NEAR(sim3.step_translation_stats_m.max, 0.0, 1e-9);
+  EXPECT_NEAR(sim3.step_rotation_stats_deg.max, 0.0, 1e-6);
+  // Without alignment the errors are large; the steps keep their exact
+  // rotations but are s times too long.
   const PoseEvaluation none =
       EvaluatePoses(ModelFromPoses(estimated), gt, Options("none"));
   EXPECT_GT(none.position_stats_m.mean, 1.0);
   EXPECT_GT(none.rotation_stats_deg.mean, 10.0);
+  EXPECT_NEAR(none.step_rotation_stats_deg.max, 0.0, 1e-6);
+  double step_length_sum = 0.0;
+  for (size_t i = 0; i + 1 < gt.size(); ++i) {
+    step_length_sum += (gt[i + 1].world_from_cam.translation -
+                        gt[i].world_from_cam.translation)
+                           .norm();
+  }
+  EXPECT_NEAR(none.step_translation_stats_m.mean,
+              (1.0 - s) * step_length_sum / (gt.size() - 1), 1e-9);
 }
 
 // The estimate is the ground truth scaled by 2 about the origin. With
@@ -169,8 +183,16 @@ TEST(PoseEvaluator, ShiftedAndRotatedImagesAndMissingFrame) {
     EXPECT_NEAR(evaluation.rotation_recalls[k], rotation[k], 1e-12) << k;
     EXPECT_NEAR(evaluation.pose_recalls[k], both[k], 1e-12) << k;
   }
+  // Steps 0-1, 1-2, 2-3, 3-4 (4-5 lacks frame 5): the shift of frame 2
+  // lengthens two steps by 0.1 m, the turn of frame 4 turns step 3-4.
+  EXPECT_EQ(evaluation.step_translation_stats_m.count, 4u);
+  EXPECT_NEAR(evaluation.step_translation_stats_m.mean, 0.05, 1e-12);
+  EXPECT_NEAR(evaluation.step_translation_stats_m.max, 0.1, 1e-12);
+  EXPECT_NEAR(evaluation.step_rotation_stats_deg.mean, 0.75, 1e-9);
+  EXPECT_NEAR(evaluation.step_rotation_stats_deg.max, 3.0, 1e-9);
   const std::string table = FormatPoseEvaluation(evaluation);
   EXPECT_NE(table.find("5 matched, 1 missing"), std::string::npos) << table;
+  EXPECT_NE(table.find("4 steps"), std::string::npos) << table;
 }
 
 TEST(PoseEvaluator, TooFewImagesForAlignmentThrows) {
@@ -326,15 +348,15 @@ TEST(PoseEvaluator, WritesJson) {
   for (const auto& item : json.items()) {
     keys.push_back(item.key());
   }
-  EXPECT_EQ(keys,
-            std::vector<std::string>(
-                {"evaluator", "alignment", "transform",
-                 "num_ground_truth_frames", "num_model_images", "num_matched",
-                 "num_missing", "num_unmatched_images", "position_error_m",
-                 "rotation_error_deg", "position_thresholds_m",
-                 "position_recalls", "rotation_thresholds_deg",
-                 "rotation_recalls", "pose_recalls", "missing_frames",
-                 "images"}));
+  EXPECT_EQ(keys, std::vector<std::string>(
+                      {"evaluator", "alignment", "transform",
+                       "num_ground_truth_frames", "num_model_images",
+                       "num_matched", "num_missing", "num_unmatched_images",
+                       "position_error_m", "rotation_error_deg",
+                       "step_translation_error_m", "step_rotation_error_deg",
+                       "position_thresholds_m", "position_recalls",
+                       "rotation_thresholds_deg", "rotation_recalls",
+                       "pose_recalls", "missing_frames", "images"}));
   EXPECT_EQ(json.at("evaluator"), "pose");
   EXPECT_EQ(json.at("alignment"), "sim3");
   EXPECT_TRUE(json.at("num_matched").is_number_unsigned());

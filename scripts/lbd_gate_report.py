@@ -1,0 +1,170 @@
+#!/usr/bin/python3
+"""Algorithm 1's LBD gate (t_LBD): the descriptors' Hamming distances on true
+and false matches, and the threshold they give (issue 21).
+
+For each cell of a finished benchmark matrix (scripts/bench_matrix.sh), the
+line tracks that line_matcher made with the LBD gate off (t_LBD 256; the
+matrix's run1/matrix/tracks_prior.json with the noisy priors and
+tracks_refined.json with the refined poses) are labelled as
+scripts/eval_line_tracks.py does (each observation placed with the true pose
+and given its nearest ground-truth crease edge). Every pair of observations
+of one track is a match that the geometric criteria accepted: true when both
+carry the same edge (or collinear edges), false when both are labelled with
+different ones. Their descriptors come from the run's ext_line_segments.
+
+Printed per cell and pose source: the numbers of true and false matches,
+quantiles of their distances, and for the threshold that keeps 99 % of the
+true matches over all cells (the derived t_LBD), the share of false matches
+it rejects. A gate rejects a false match only if its distance lies above
+the true matches' tail; where the two distributions overlap, the gate
+cannot help.
+
+Usage: scripts/lbd_gate_report.py --work DIR [--cells a,b]
+"""
+import argparse
+import json
+import math
+import os
+import sqlite3
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import eval_line_tracks as elt  # noqa: E402
+
+
+def quantile(values, q):
+    if not values:
+        return float("nan")
+    values = sorted(values)
+    return values[min(len(values) - 1, int(math.floor(q * (len(values) - 1) + 0.5)))]
+
+
+def descriptors(database):
+    connection = sqlite3.connect(f"file:{database}?mode=ro", uri=True)
+    rows = connection.execute(
+        "SELECT image_id, idx, descriptor FROM ext_line_segments").fetchall()
+    connection.close()
+    return {(image_id, idx): int.from_bytes(blob, "little")
+            for image_id, idx, blob in rows}
+
+
+def edge_labeller(poses_gt, crease_edges, max_distance=0.15, max_angle_deg=10.0):
+    """observation -> collinear group of its nearest true edge, or None."""
+    poses = elt.read_poses(poses_gt)
+    edges = elt.read_edges(crease_edges)
+    directions = []
+    for a, b in edges:
+        d = elt.sub(b, a)
+        n = elt.norm(d)
+        directions.append([x / n for x in d] if n > 0 else [1.0, 0.0, 0.0])
+    group = list(range(len(edges)))
+
+    def find(i):
+        while group[i] != i:
+            group[i] = group[group[i]]
+            i = group[i]
+        return i
+    cos_collinear = math.cos(math.radians(2.0))
+    for i in range(len(edges)):
+        for j in range(i + 1, len(edges)):
+            if abs(elt.dot(directions[i], directions[j])) < cos_collinear:
+                continue
+            if (elt.point_line_distance(edges[j][0], edges[i][0], directions[i]) < 0.05 and
+                    elt.point_line_distance(edges[j][1], edges[i][0], directions[i]) < 0.05):
+                group[find(i)] = find(j)
+    cos_max = math.cos(math.radians(max_angle_deg))
+
+    def label(obs):
+        frame = os.path.splitext(os.path.basename(obs["image_name"]))[0]
+        rotation, translation = poses[frame]
+        world = []
+        for key in ("start3D_in_cam", "end3D_in_cam"):
+            p = obs[key]
+            world.append([sum(rotation[r][c] * p[c] for c in range(3)) +
+                          translation[r] for r in range(3)])
+        d = elt.sub(world[1], world[0])
+        n = elt.norm(d)
+        d = [x / n for x in d] if n > 0 else [1.0, 0.0, 0.0]
+        best, best_distance = None, max_distance
+        for e, (a, b) in enumerate(edges):
+            if abs(elt.dot(d, directions[e])) < cos_max:
+                continue
+            distance = 0.5 * (elt.point_segment_distance(world[0], a, b) +
+                              elt.point_segment_distance(world[1], a, b))
+            if distance <= best_distance:
+                best, best_distance = e, distance
+        return None if best is None else find(best)
+    return label
+
+
+def pair_distances(tracks_path, descriptor, label):
+    true, false = [], []
+    with open(tracks_path) as stream:
+        tracks = json.load(stream)["tracks"]
+    for track in tracks:
+        observations = [(obs, label(obs)) for obs in track["observations"]]
+        for i in range(len(observations)):
+            for j in range(i + 1, len(observations)):
+                (a, la), (b, lb) = observations[i], observations[j]
+                if la is None or lb is None:
+                    continue
+                da = descriptor.get((a["image_id"], a["segment_idx"]))
+                db = descriptor.get((b["image_id"], b["segment_idx"]))
+                if da is None or db is None:
+                    continue
+                (true if la == lb else false).append(bin(da ^ db).count("1"))
+    return true, false
+
+
+def main():
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--work", required=True)
+    parser.add_argument("--cells", default="")
+    args = parser.parse_args()
+    if not os.path.isdir(args.work):
+        sys.exit(f"lbd_gate_report: {args.work} is not a matrix work folder")
+    cells = sorted(c for c in os.listdir(args.work)
+                   if os.path.exists(os.path.join(args.work, c, "run1", "matrix",
+                                                  "tracks_refined.json")))
+    if args.cells:
+        cells = [c for c in cells if c in args.cells.split(",")]
+    rows, all_true, all_false = [], [], []
+    for cell in cells:
+        run = os.path.join(args.work, cell, "run1")
+        crease = os.path.join(args.work, cell, "dataset", "ground_truth",
+                              "crease_edges.txt")
+        poses_gt = os.path.join(args.work, cell, "dataset", "poses_gt.txt")
+        if not (os.path.exists(crease) and os.path.exists(poses_gt)):
+            continue
+        descriptor = descriptors(os.path.join(run, "ws", "database.db"))
+        label = edge_labeller(poses_gt, crease)
+        for source in ("prior", "refined"):
+            path = os.path.join(run, "matrix", f"tracks_{source}.json")
+            if not os.path.exists(path):
+                continue
+            true, false = pair_distances(path, descriptor, label)
+            rows.append((cell, source, true, false))
+            all_true += true
+            all_false += false
+    if not rows:
+        sys.exit("lbd_gate_report: no cell with tracks and ground truth")
+    threshold = quantile(all_true, 0.99) + 1
+    print(f"Derived t_LBD (keeps 99 % of the {len(all_true)} true matches of "
+          f"all cells): {threshold} bits\n")
+    print("| cell | poses | true matches | their distance p50 / p90 / p99 | "
+          "false matches | their distance p10 / p50 / p90 | false rejected "
+          f"at t_LBD {threshold} | true rejected |")
+    print("|---|---|---|---|---|---|---|---|")
+    for cell, source, true, false in rows + [("all", "both", all_true, all_false)]:
+        rejected_false = sum(d >= threshold for d in false)
+        rejected_true = sum(d >= threshold for d in true)
+        print(f"| {cell} | {source} | {len(true)} | "
+              f"{quantile(true, 0.5)} / {quantile(true, 0.9)} / {quantile(true, 0.99)} | "
+              f"{len(false)} | "
+              f"{quantile(false, 0.1)} / {quantile(false, 0.5)} / {quantile(false, 0.9)} | "
+              f"{rejected_false} of {len(false)} | {rejected_true} of {len(true)} |")
+
+
+if __name__ == "__main__":
+    main()
