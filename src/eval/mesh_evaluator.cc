@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
@@ -11,6 +12,7 @@
 #include "src/eval/distance_colormap.h"
 #include "src/eval/mesh_sampling.h"
 #include "src/eval/nearest_neighbor.h"
+#include "src/eval/reference_visibility.h"
 #include "src/eval/segment_io.h"
 
 namespace colmap_lidar {
@@ -89,7 +91,8 @@ MeshEvaluation EvaluateMesh(
     const std::vector<Eigen::Vector3i>& triangles,
     const std::vector<Eigen::Vector3d>& reference,
     const std::vector<Eigen::Vector3d>& observed,
-    const MeshEvaluationOptions& options, const ReferenceSurface* surface) {
+    const MeshEvaluationOptions& options, const ReferenceSurface* surface,
+    const std::vector<bool>* reference_visible) {
   THROW_CHECK(options.Check(), "Invalid MeshEvaluation options");
   THROW_CHECK(!estimate_vertices.empty(), "The estimate has no vertices");
   THROW_CHECK(!reference.empty(), "The reference cloud has no points");
@@ -117,15 +120,25 @@ MeshEvaluation EvaluateMesh(
     evaluation.estimate_points = estimate_vertices;
   }
 
-  // Reference points kept for recall: those near the observed cloud.
+  // Reference points kept for recall: those near the observed cloud (and
+  // visible, when given).
   evaluation.reference_points = reference;
   evaluation.reference_kept.assign(reference.size(), true);
+  if (reference_visible != nullptr) {
+    THROW_CHECK(reference_visible->size() == reference.size(),
+                "Reference visibility has " << reference_visible->size()
+                                            << " flags for " << reference.size()
+                                            << " points");
+    evaluation.reference_kept = *reference_visible;
+  }
   if (!observed.empty()) {
     const PointCloudIndex observed_index(observed);
     const std::vector<double> to_observed =
         observed_index.NearestDistances(reference);
     for (size_t i = 0; i < reference.size(); ++i) {
-      evaluation.reference_kept[i] = to_observed[i] <= options.observed_radius_m;
+      evaluation.reference_kept[i] =
+          evaluation.reference_kept[i] &&
+          to_observed[i] <= options.observed_radius_m;
     }
   }
   std::vector<Eigen::Vector3d> kept_reference;
@@ -285,8 +298,17 @@ MeshEvaluation EvaluateMeshFiles(
                                     << options.edge_region_path
                                     << " holds no segments");
   }
-  MeshEvaluation evaluation = EvaluateMesh(vertices, triangles, reference,
-                                           observed, options, &surface);
+  std::vector<bool> visible;
+  if (!options.visible_model_path.empty()) {
+    CheckDirExists(options.visible_model_path,
+                   "MeshEvaluation.visible_model_path");
+    visible = VisibleFromCameras(reference,
+                                 ReadReconstruction(options.visible_model_path),
+                                 ReferenceVisibilityOptions());
+  }
+  MeshEvaluation evaluation =
+      EvaluateMesh(vertices, triangles, reference, observed, options, &surface,
+                   options.visible_model_path.empty() ? nullptr : &visible);
   if (!edges.empty()) {
     evaluation.edge_region =
         EvaluateEdgeRegion(evaluation, edges, options.edge_region_radius_m);
@@ -314,10 +336,9 @@ std::string FormatMeshEvaluation(const MeshEvaluation& evaluation) {
                   evaluation.num_estimate_points_in_crop);
   }
   out << line;
-  std::snprintf(line, sizeof(line),
-                "  reference: %zu points, %zu kept (observed)\n",
-                evaluation.reference_points.size(),
-                evaluation.num_reference_points_kept);
+  std::snprintf(
+      line, sizeof(line), "  reference: %zu points, %zu kept for recall\n",
+      evaluation.reference_points.size(), evaluation.num_reference_points_kept);
   out << line;
   std::snprintf(line, sizeof(line), "  %-16s %12s %12s %12s %12s\n",
                 "distance [m]", "mean", "median", "rmse", "max");

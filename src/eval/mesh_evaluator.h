@@ -16,7 +16,11 @@
 // Reference selection (recall): with observed_cloud_path, reference points
 // farther than observed_radius_m from every observed point (e.g. the
 // registered LIDAR + camera points) are dropped, since no method can
-// recover what no sensor saw.
+// recover what no sensor saw. With visible_model_path (a model of the
+// cameras in the reference's frame, e.g. the true poses), reference points
+// that no camera could see (outside every image, or hidden by the
+// reference's own surface: reference_visibility.h) are dropped as well: the
+// paper's "whole reference, occluded parts removed".
 // Estimate selection (precision): estimate points outside the axis-aligned
 // bounding box of the kept reference points enlarged by crop_margin_m on
 // every side are ignored (surfaces beyond the surveyed area cannot be
@@ -67,6 +71,10 @@ struct MeshEvaluationOptions {
   // a baseline's and ours, are judged on the same region); else it is in the
   // estimate's frame and carried with it (EvaluateMeshFiles).
   bool observed_cloud_in_reference_frame = false;
+  // Optional COLMAP model (cameras and poses in the reference's frame):
+  // only the reference points its images could see count for recall.
+  // Empty: no visibility test.
+  std::string visible_model_path = "";
   // Margin of the precision crop box around the kept reference (metres);
   // negative disables the crop.
   double crop_margin_m = 0.5;
@@ -138,14 +146,18 @@ struct ReferenceSurface {
 // Evaluates in-memory data. `triangles` empty means a point-cloud estimate
 // given by `estimate_vertices`. With `surface` (non-null, with triangles)
 // the precision distances are to it (options.reference_surface_path is not
-// read here). Throws colmap_lidar::Error on invalid options, an empty
-// estimate or reference, or non-finite coordinates.
-MeshEvaluation EvaluateMesh(const std::vector<Eigen::Vector3d>& estimate_vertices,
-                            const std::vector<Eigen::Vector3i>& triangles,
-                            const std::vector<Eigen::Vector3d>& reference,
-                            const std::vector<Eigen::Vector3d>& observed,
-                            const MeshEvaluationOptions& options,
-                            const ReferenceSurface* surface = nullptr);
+// read here). With `reference_visible` (one flag per reference point; see
+// VisibleFromCameras) only the visible points count for recall
+// (options.visible_model_path is not read here). Throws colmap_lidar::Error on
+// invalid options, an empty estimate or reference, or non-finite coordinates.
+MeshEvaluation EvaluateMesh(
+    const std::vector<Eigen::Vector3d>& estimate_vertices,
+    const std::vector<Eigen::Vector3i>& triangles,
+    const std::vector<Eigen::Vector3d>& reference,
+    const std::vector<Eigen::Vector3d>& observed,
+    const MeshEvaluationOptions& options,
+    const ReferenceSurface* surface = nullptr,
+    const std::vector<bool>* reference_visible = nullptr);
 
 // Reads the PLYs (estimate mesh or cloud, reference cloud and, if set,
 // options.observed_cloud_path and options.reference_surface_path) and

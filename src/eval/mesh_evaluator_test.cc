@@ -1,10 +1,11 @@
 #include "src/eval/mesh_evaluator.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <functional>
 
-#include <gtest/gtest.h>
-
+#include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
@@ -400,6 +401,59 @@ TEST(MeshEvaluator, FilesAndErrors) {
   options = MeshEvaluationOptions();
   options.sample_density_per_m2 = 0;
   EXPECT_FALSE(options.Check());
+}
+
+// The paper's recall: only the reference the cameras could see. A camera
+// 3 m above the unit square looks down on it; a second square 1 m below
+// the first lies in its shadow and no method could reconstruct it.
+TEST(MeshEvaluator, VisibleModelDropsTheHiddenReference) {
+  const std::string dir = testing::CreateTestDir();
+  const std::string mesh_path = JoinPaths(dir, "mesh.ply");
+  const std::string reference_path = JoinPaths(dir, "reference.ply");
+  testing::WriteXyzPly(mesh_path, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},
+                       {{0, 1, 2, 3}});
+  std::vector<Eigen::Vector3d> reference = SquareGrid(0, 0, 0, 50);
+  const std::vector<Eigen::Vector3d> hidden = SquareGrid(0, 0, -1, 50);
+  reference.insert(reference.end(), hidden.begin(), hidden.end());
+  testing::WriteXyzPly(reference_path, reference);
+
+  Reconstruction model;
+  Camera camera =
+      Camera::FromModelName("PINHOLE", 640, 480, {320.0, 320.0, 320.0, 240.0});
+  camera.camera_id = 1;
+  model.cameras[1] = camera;
+  Image image;
+  image.image_id = 1;
+  image.camera_id = 1;
+  image.name = "000000.png";
+  // Camera z along world -z, centre (0.5, 0.5, 3).
+  image.cam_from_world.rotation = Eigen::Quaterniond(0, 1, 0, 0);
+  image.cam_from_world.translation = Eigen::Vector3d(-0.5, 0.5, 3.0);
+  model.images.push_back(image);
+  const std::string model_path = JoinPaths(dir, "true_poses");
+  WriteReconstruction(model_path, model, ModelFormat::kBinary);
+
+  MeshEvaluationOptions options;
+  options.thresholds_m = {0.02, 0.05};
+  const MeshEvaluation all =
+      EvaluateMeshFiles(mesh_path, reference_path, options);
+  EXPECT_EQ(all.num_reference_points_kept, 5000u);
+  EXPECT_NEAR(all.recalls[1], 0.5, 1e-12);
+
+  options.visible_model_path = model_path;
+  const MeshEvaluation visible =
+      EvaluateMeshFiles(mesh_path, reference_path, options);
+  EXPECT_EQ(visible.num_reference_points_kept, 2500u);
+  EXPECT_DOUBLE_EQ(visible.recalls[1], 1.0);
+  for (size_t i = 0; i < reference.size(); ++i) {
+    EXPECT_EQ(visible.reference_kept[i], i < 2500) << i;
+  }
+
+  options.visible_model_path = JoinPaths(dir, "no_model");
+  EXPECT_NE(ErrorOf([&] {
+              EvaluateMeshFiles(mesh_path, reference_path, options);
+            }).find("no_model"),
+            std::string::npos);
 }
 
 }  // namespace

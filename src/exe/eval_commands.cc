@@ -78,6 +78,13 @@ void AddMeshEvaluationOptions(MeshEvaluationOptions* evaluation,
                      "the scans fused with the true poses, to judge "
                      "reconstructions in different frames on one region); "
                      "0: in the estimate's, carried with it.");
+  options->AddOption("MeshEvaluation.visible_model_path",
+                     &evaluation->visible_model_path,
+                     "Optional COLMAP model of the cameras in the reference's "
+                     "frame (e.g. the true poses): only the reference points "
+                     "its images could see (inside an image, not hidden by "
+                     "the reference's own surface) count for recall, the "
+                     "paper's whole visible reference. Empty: no test.");
   options->AddOption("MeshEvaluation.crop_margin_m",
                      &evaluation->crop_margin_m,
                      "Estimate points outside the bounding box of the kept "
