@@ -87,6 +87,50 @@ def point_line_distance(p, a, direction):
     return norm([ap[i] - along * direction[i] for i in range(3)])
 
 
+def edge_directions(edges):
+    directions = []
+    for a, b in edges:
+        d = sub(b, a)
+        n = norm(d)
+        directions.append([x / n for x in d] if n > 0 else [1.0, 0.0, 0.0])
+    return directions
+
+
+def collinear_groups(edges, directions):
+    """find(edge index) -> its group: collinear edges (same direction within
+    2 deg, on each other's line within 5 cm) share one."""
+    group = list(range(len(edges)))
+
+    def find(i):
+        while group[i] != i:
+            group[i] = group[group[i]]
+            i = group[i]
+        return i
+    cos_collinear = math.cos(math.radians(2.0))
+    for i in range(len(edges)):
+        for j in range(i + 1, len(edges)):
+            if abs(dot(directions[i], directions[j])) < cos_collinear:
+                continue
+            if (point_line_distance(edges[j][0], edges[i][0], directions[i]) < 0.05 and
+                    point_line_distance(edges[j][1], edges[i][0], directions[i]) < 0.05):
+                group[find(i)] = find(j)
+    return find
+
+
+def nearest_edge(world, direction, edges, directions, max_distance, cos_max):
+    """Index of the edge nearest to the world segment `world` (mean endpoint
+    to edge distance <= max_distance, angle within acos(cos_max)), or None."""
+    best, best_distance = None, max_distance
+    for e, (a, b) in enumerate(edges):
+        if abs(dot(direction, directions[e])) < cos_max:
+            continue
+        distance = 0.5 * (point_segment_distance(world[0], a, b) +
+                          point_segment_distance(world[1], a, b))
+        if distance <= best_distance:
+            best, best_distance = e, distance
+    return best
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument('tracks')
@@ -109,27 +153,8 @@ def main():
 
     poses = read_poses(args.poses_gt)
     edges = read_edges(args.crease_edges)
-    directions = []
-    for a, b in edges:
-        d = sub(b, a)
-        n = norm(d)
-        directions.append([x / n for x in d] if n > 0 else [1.0, 0.0, 0.0])
-    # Collinear groups: same direction (2 deg) and on each other's line (5 cm).
-    group = list(range(len(edges)))
-
-    def find(i):
-        while group[i] != i:
-            group[i] = group[group[i]]
-            i = group[i]
-        return i
-    cos_collinear = math.cos(math.radians(2.0))
-    for i in range(len(edges)):
-        for j in range(i + 1, len(edges)):
-            if abs(dot(directions[i], directions[j])) < cos_collinear:
-                continue
-            if (point_line_distance(edges[j][0], edges[i][0], directions[i]) < 0.05 and
-                    point_line_distance(edges[j][1], edges[i][0], directions[i]) < 0.05):
-                group[find(i)] = find(j)
+    directions = edge_directions(edges)
+    find = collinear_groups(edges, directions)
 
     cos_max = math.cos(math.radians(args.max_angle_deg))
     tracks = json.load(open(args.tracks))['tracks']
@@ -163,14 +188,8 @@ def main():
             sign = 1.0 if dot(d, track_direction) >= 0 else -1.0
             track_direction = [track_direction[i] + sign * d[i]
                                for i in range(3)]
-            best, best_distance = None, args.max_distance
-            for e, (a, b) in enumerate(edges):
-                if abs(dot(d, directions[e])) < cos_max:
-                    continue
-                distance = 0.5 * (point_segment_distance(world[0], a, b) +
-                                  point_segment_distance(world[1], a, b))
-                if distance <= best_distance:
-                    best, best_distance = e, distance
+            best = nearest_edge(world, d, edges, directions,
+                                args.max_distance, cos_max)
             labels.append(best)
             num_labelled += best is not None
         if true_labels is None and norm(track_direction) > 0:
