@@ -33,7 +33,9 @@ and variant the poses, F and the variant's wall time, beside the preset's
 own run.
 
 Usage: scripts/bench_ablation.py --default_work DIR --paper_work DIR
-         [--cells a,b] [--parts sfm,mesh,dense] [--table_only]
+         [--cells a,b] [--parts sfm,mesh,dense] [--presets default,paper]
+         [--overwrite] [--table_only]
+A variant already measured on a cell is kept unless --overwrite.
 COLMAP_LIDAR_BIN selects the binary (default build/colmap-lidar).
 """
 import argparse
@@ -157,13 +159,29 @@ def run(command):
         log(f"failed ({result.returncode}): {' '.join(command[:4])} ...")
 
 
+def variant_done(work, cell, name, part):
+    if part == "sfm":
+        return os.path.exists(os.path.join(work, cell, "run1", "resfm", name,
+                                           "poses_sim3_axes.json"))
+    return os.path.exists(os.path.join(work, cell, "remesh", name, "ws",
+                                       "eval", "mesh_ours.json"))
+
+
 def run_variants(args, defaults, paper):
     works = {"default": args.default_work, "paper": args.paper_work}
     paper_sfm = paper_sfm_options(defaults, paper)
     for work_key, name, part, options in variants(defaults, paper):
-        if part not in args.parts:
+        if part not in args.parts or work_key not in args.presets:
             continue
-        cells = ["--cells", args.cells] if args.cells else []
+        # A variant already measured on a cell is kept (--overwrite redoes it).
+        cells = args.cells.split(",") if args.cells else sorted(
+            c for c in os.listdir(works[work_key])
+            if os.path.isdir(os.path.join(works[work_key], c, "run1", "ws")))
+        cells = [c for c in cells if args.overwrite or
+                 not variant_done(works[work_key], c, name, part)]
+        if not cells:
+            continue
+        cells = ["--cells", ",".join(cells)]
         if part == "sfm":
             base = paper_sfm if work_key == "paper" else {}
             run(["bash", "scripts/bench_resfm.sh", "--work", works[work_key],
@@ -381,9 +399,18 @@ def main():
     parser.add_argument("--paper_work", required=True)
     parser.add_argument("--cells", default="")
     parser.add_argument("--parts", default="sfm,mesh")
+    parser.add_argument("--presets", default="default,paper",
+                        help="which side to run: default (extensions removed), "
+                             "paper (extensions added)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="re-run variants already measured")
     parser.add_argument("--table_only", action="store_true")
     args = parser.parse_args()
     args.parts = args.parts.split(",")
+    args.presets = args.presets.split(",")
+    for preset in args.presets:
+        if preset not in ("default", "paper"):
+            sys.exit(f"bench_ablation: --presets takes default, paper; got {preset}")
     for part in args.parts:
         if part not in ("sfm", "mesh", "dense"):
             sys.exit(f"bench_ablation: --parts takes sfm, mesh, dense; got {part}")
