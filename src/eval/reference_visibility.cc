@@ -1,6 +1,7 @@
 #include "src/eval/reference_visibility.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -70,7 +71,15 @@ std::vector<bool> VisibleFromCameras(
   std::vector<Eigen::Vector2d> pixels(points.size());
   std::vector<float> buffer;
   size_t num_images = 0;
+  // Thousands of images over millions of points take minutes: progress
+  // once a minute.
+  auto last_log = std::chrono::steady_clock::now();
   for (const Image& image : model.images) {
+    if (std::chrono::steady_clock::now() - last_log > std::chrono::minutes(1)) {
+      last_log = std::chrono::steady_clock::now();
+      LOG(INFO) << "Reference visibility: " << num_images << " of "
+                << model.images.size() << " images";
+    }
     const auto camera_it = model.cameras.find(image.camera_id);
     THROW_CHECK(camera_it != model.cameras.end(),
                 "image " << image.name << " has no camera " << image.camera_id);
