@@ -87,6 +87,21 @@ def point_line_distance(p, a, direction):
     return norm([ap[i] - along * direction[i] for i in range(3)])
 
 
+def observation_in_world(obs, poses):
+    """An observation's 3D endpoints placed with its frame's pose in
+    `poses` (read_poses), and its unit direction."""
+    frame = os.path.splitext(os.path.basename(obs['image_name']))[0]
+    rotation, translation = poses[frame]
+    world = []
+    for key in ('start3D_in_cam', 'end3D_in_cam'):
+        p = obs[key]
+        world.append([sum(rotation[r][c] * p[c] for c in range(3)) +
+                      translation[r] for r in range(3)])
+    d = sub(world[1], world[0])
+    n = norm(d)
+    return world, ([x / n for x in d] if n > 0 else [1.0, 0.0, 0.0])
+
+
 def edge_directions(edges):
     directions = []
     for a, b in edges:
@@ -175,16 +190,7 @@ def main():
                 labels.append(best)
                 num_labelled += best is not None
                 continue
-            frame = os.path.splitext(os.path.basename(obs['image_name']))[0]
-            rotation, translation = poses[frame]
-            world = []
-            for key in ('start3D_in_cam', 'end3D_in_cam'):
-                p = obs[key]
-                world.append([sum(rotation[r][c] * p[c] for c in range(3)) +
-                              translation[r] for r in range(3)])
-            d = sub(world[1], world[0])
-            n = norm(d)
-            d = [x / n for x in d] if n > 0 else [1.0, 0.0, 0.0]
+            world, d = observation_in_world(obs, poses)
             sign = 1.0 if dot(d, track_direction) >= 0 else -1.0
             track_direction = [track_direction[i] + sign * d[i]
                                for i in range(3)]

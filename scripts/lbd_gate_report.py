@@ -59,16 +59,7 @@ def edge_labeller(poses_gt, crease_edges, max_distance=0.15, max_angle_deg=10.0)
     cos_max = math.cos(math.radians(max_angle_deg))
 
     def label(obs):
-        frame = os.path.splitext(os.path.basename(obs["image_name"]))[0]
-        rotation, translation = poses[frame]
-        world = []
-        for key in ("start3D_in_cam", "end3D_in_cam"):
-            p = obs[key]
-            world.append([sum(rotation[r][c] * p[c] for c in range(3)) +
-                          translation[r] for r in range(3)])
-        d = elt.sub(world[1], world[0])
-        n = elt.norm(d)
-        d = [x / n for x in d] if n > 0 else [1.0, 0.0, 0.0]
+        world, d = elt.observation_in_world(obs, poses)
         best = elt.nearest_edge(world, d, edges, directions, max_distance, cos_max)
         return None if best is None else find(best)
     return label

@@ -97,15 +97,21 @@ std::vector<bool> VisibleFromCameras(
         continue;
       }
       pixels[i] = camera.ImgFromCam(in_cam);
-      const int u = static_cast<int>(std::floor(pixels[i].x()));
-      const int v = static_cast<int>(std::floor(pixels[i].y()));
-      const int radius = std::min(
-          options.max_splat_radius_px,
-          static_cast<int>(std::lround(0.5 * focal * spacing / in_cam.z())));
-      if (u + radius < 0 || u - radius >= width || v + radius < 0 ||
-          v - radius >= height) {
+      // Bounds in double first: a point just in front of the camera
+      // projects far outside the int range.
+      const double radius_px = std::min<double>(
+          options.max_splat_radius_px, 0.5 * focal * spacing / in_cam.z());
+      if (!(pixels[i].x() + radius_px >= 0.0 &&
+            pixels[i].x() - radius_px < width &&
+            pixels[i].y() + radius_px >= 0.0 &&
+            pixels[i].y() - radius_px < height)) {
+        // Also keeps pass 2 off this point (its pixel is outside).
+        pixels[i] = Eigen::Vector2d(-1.0, -1.0);
         continue;
       }
+      const int u = static_cast<int>(std::floor(pixels[i].x()));
+      const int v = static_cast<int>(std::floor(pixels[i].y()));
+      const int radius = static_cast<int>(std::lround(radius_px));
       const float depth = static_cast<float>(in_cam.z());
       for (int y = std::max(0, v - radius);
            y <= std::min(height - 1, v + radius); ++y) {
