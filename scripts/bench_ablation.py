@@ -55,6 +55,7 @@ EXTENSIONS = [
     ("lidar_pose_graph", "sfm",
      ["LidarMapper.init_method", "LineBundleAdjustment.lidar_edge_weight"]),
     ("lidar_line_term", "sfm", ["LineBundleAdjustment.lambda_lidar"]),
+    ("lidar_point_planes", "sfm", ["LineBundleAdjustment.lidar_point_weight"]),
     ("association", "sfm",
      ["LineMatching.min_overlap", "LineMatching.max_rival_score_ratio",
       "LineMatching.pose_uncertainty_scale",

@@ -55,6 +55,13 @@ void AddLineBundleAdjustmentOptions(LineBundleAdjustmentOptions* o,
   options->AddOption(s + "lidar_edge_loss_scale", &o->lidar_edge_loss_scale,
                      "Cauchy loss scale of the LIDAR edges, whitened units "
                      "(sigmas), > 0.");
+  options->AddOption(s + "lidar_point_weight", &o->lidar_point_weight,
+                     "Weight of the LIDAR planes of the sparse points (the "
+                     "LIDAR depth of the visual features; lidar_mapper), "
+                     ">= 0; 0 = off. Not in the paper.");
+  options->AddOption(s + "lidar_point_loss_scale", &o->lidar_point_loss_scale,
+                     "Cauchy loss scale of the LIDAR planes of the points, "
+                     "in plane sigmas, > 0.");
   if (with_gauge_and_priors) {
     options->AddOption(s + "prior_position_sigma_m",
                        &o->prior_position_sigma_m,
@@ -170,6 +177,24 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      &o->lidar_graph.max_loop_candidates_per_frame,
                      "init_method lidar_graph: at most this many loop "
                      "candidates per frame (the nearest), >= 0.");
+  options->AddOption(s + "point_plane_max_radius_range_fraction",
+                     &o->point_planes.max_radius_range_fraction,
+                     "LIDAR planes of the points: the scan's neighbours of a "
+                     "point are searched up to this fraction of its range "
+                     "(a 16-ring scanner's rings are 0.035 apart), > 0.");
+  options->AddOption(s + "point_plane_max_rms_sigmas",
+                     &o->point_planes.max_rms_sigmas,
+                     "LIDAR planes of the points: a neighbourhood is a plane "
+                     "when its rms residual is at most this many range-noise "
+                     "sigmas (measured on the scans), > 0.");
+  options->AddOption(s + "point_plane_max_distance_sigmas",
+                     &o->point_planes.max_distance_sigmas,
+                     "LIDAR planes of the points: a point farther from its "
+                     "plane than this many plane sigmas gets none, > 0.");
+  options->AddOption(s + "point_plane_max_range_m",
+                     &o->point_planes.max_range_m,
+                     "LIDAR planes of the points: none for points farther "
+                     "from the camera, metres, > 0.");
   options->AddOption(s + "init_model_path", &o->init_model_path,
                      "Sparse model for init_method model.");
   options->AddOption(s + "init_min_num_inliers", &o->init_min_num_inliers,

@@ -293,6 +293,54 @@ class PosePriorCostFunctor {
   const double inv_rotation_sigma_;
 };
 
+// Distance of a sparse 3D point to the LIDAR surface its image saw there
+// (a local plane of that image's scan, src/sfm/lidar_point_planes.h), in
+// units of the plane's sigma:
+//
+//   r = (n_cam . (R_cw X_w + t_cw) - d_cam) / sigma
+//
+// with the unit normal n_cam and offset d_cam = n_cam . c_cam of the plane
+// in the camera frame (c_cam a point of it). Like the LIDAR line residuals
+// these are metric: they fix the scale, and, through the point's bearing,
+// the camera's position along surfaces that leave a scan registration
+// blind (a corridor's axis): a wall point seen at a known distance from the
+// wall sits at a known position along it.
+class LidarPointPlaneCostFunctor {
+ public:
+  LidarPointPlaneCostFunctor(const Eigen::Vector3d& normal_in_cam,
+                             double offset_m, double sigma_m)
+      : normal_in_cam_(normal_in_cam),
+        offset_m_(offset_m),
+        inv_sigma_(1.0 / sigma_m) {}
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& normal_in_cam,
+                                     double offset_m, double sigma_m) {
+    return new ceres::AutoDiffCostFunction<LidarPointPlaneCostFunctor, 1, 4, 3,
+                                           3>(
+        new LidarPointPlaneCostFunctor(normal_in_cam, offset_m, sigma_m));
+  }
+
+  template <typename T>
+  bool operator()(const T* cam_from_world_rotation,
+                  const T* cam_from_world_translation,
+                  const T* point3D_in_world, T* residuals) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> rotation(
+        cam_from_world_rotation);
+    const Eigen::Matrix<T, 3, 1> point3D_in_cam =
+        rotation * Eigen::Map<const Eigen::Matrix<T, 3, 1>>(point3D_in_world) +
+        Eigen::Map<const Eigen::Matrix<T, 3, 1>>(cam_from_world_translation);
+    residuals[0] =
+        (normal_in_cam_.cast<T>().dot(point3D_in_cam) - T(offset_m_)) *
+        T(inv_sigma_);
+    return true;
+  }
+
+ private:
+  const Eigen::Vector3d normal_in_cam_;
+  const double offset_m_;
+  const double inv_sigma_;
+};
+
 // The whitened error of a relative LIDAR pose edge, shared by the pose
 // graph (src/sfm/lidar_pose_graph.h, world_from_cam variables) and the
 // adjustment (cam_from_world variables). Given cam_i_from_cam_j = (rel_q,

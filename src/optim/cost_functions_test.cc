@@ -206,6 +206,39 @@ TEST(LidarLineCostFunctor, ValuesAndGradients) {
                         f.line_params.data()});
 }
 
+TEST(LidarPointPlaneCostFunctor, ValuesAndGradients) {
+  Fixture f;
+  // A plane through the point (in the camera frame), then the same plane
+  // moved 0.07 m along its normal: the residual is the signed distance over
+  // sigma.
+  const Eigen::Vector3d point_in_cam = f.cam_from_world * f.point3D;
+  const Eigen::Vector3d normal = Eigen::Vector3d(0.2, -0.3, 1.0).normalized();
+  constexpr double kSigma = 0.02;
+  double residual = 0.0;
+  const double* parameters[3] = {f.cam_from_world.rotation.coeffs().data(),
+                                 f.cam_from_world.translation.data(),
+                                 f.point3D.data()};
+  const std::unique_ptr<ceres::CostFunction> on(
+      LidarPointPlaneCostFunctor::Create(normal, normal.dot(point_in_cam),
+                                         kSigma));
+  ASSERT_TRUE(on->Evaluate(parameters, &residual, nullptr));
+  EXPECT_NEAR(residual, 0.0, 1e-9);
+  const std::unique_ptr<ceres::CostFunction> off(
+      LidarPointPlaneCostFunctor::Create(
+          normal, normal.dot(point_in_cam) + 0.07, kSigma));
+  ASSERT_TRUE(off->Evaluate(parameters, &residual, nullptr));
+  EXPECT_NEAR(residual, -0.07 / kSigma, 1e-9);
+  // Moving the point along the plane changes nothing.
+  f.point3D += f.cam_from_world.rotation.inverse() * normal.unitOrthogonal();
+  ASSERT_TRUE(off->Evaluate(parameters, &residual, nullptr));
+  EXPECT_NEAR(residual, -0.07 / kSigma, 1e-9);
+
+  const ceres::EigenQuaternionManifold quaternion_manifold;
+  ExpectGradientsMatch(*off, {&quaternion_manifold, nullptr, nullptr},
+                       {f.cam_from_world.rotation.coeffs().data(),
+                        f.cam_from_world.translation.data(), f.point3D.data()});
+}
+
 TEST(GradientChecker, DetectsAWrongJacobian) {
   // The checks above can fail: with a line manifold whose Plus Jacobian has
   // the wrong sign, the chained Jacobian no longer matches numeric

@@ -108,6 +108,11 @@ void LineBundleAdjuster::SetRelativePoseEdges(
   relative_pose_edges_ = std::move(edges);
 }
 
+void LineBundleAdjuster::SetPointPlanes(
+    std::vector<PointPlaneObservation> planes) {
+  point_planes_ = std::move(planes);
+}
+
 LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
     Reconstruction* reconstruction, std::vector<LineTrack>* line_tracks) const {
   THROW_CHECK(reconstruction != nullptr && line_tracks != nullptr,
@@ -119,6 +124,7 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
   const bool use_lidar = options_.lambda_lidar > 0.0;
   const bool use_priors = options_.prior_position_sigma_m > 0.0;
   const bool use_edges = options_.lidar_edge_weight > 0.0;
+  const bool use_point_planes = use_points && options_.lidar_point_weight > 0.0;
 
   for (Image& image : reconstruction->images) {
     image.cam_from_world.rotation.normalize();
@@ -200,6 +206,26 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
       num_constraints[image_index.at(edge.image_id2)] += 6;
     }
   }
+  // LIDAR planes of adjusted points (1 constraint each).
+  std::vector<const PointPlaneObservation*> point_planes;
+  if (use_point_planes && !point_planes_.empty()) {
+    std::unordered_map<point3D_t, bool> adjusted;
+    for (const point3D_t point3D_id : point_ids) {
+      adjusted[point3D_id] = true;
+    }
+    for (const PointPlaneObservation& plane : point_planes_) {
+      if (find_image(plane.image_id) == nullptr ||
+          adjusted.count(plane.point3D_id) == 0) {
+        continue;
+      }
+      THROW_CHECK(plane.sigma_m > 0.0 && std::isfinite(plane.offset_m) &&
+                      std::abs(plane.normal_in_cam.norm() - 1.0) < 1e-6,
+                  "Line bundle adjustment: invalid LIDAR plane of point "
+                      << plane.point3D_id << " in image " << plane.image_id);
+      point_planes.push_back(&plane);
+      num_constraints[image_index.at(plane.image_id)] += 1;
+    }
+  }
   summary.num_points = static_cast<int>(point_ids.size());
   summary.num_lines = static_cast<int>(line_indices.size());
 
@@ -215,6 +241,9 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
   const std::unique_ptr<ceres::LossFunction> edge_loss =
       CreateLoss(LineBALossType::kCauchy, options_.lidar_edge_loss_scale,
                  options_.lidar_edge_weight);
+  const std::unique_ptr<ceres::LossFunction> point_plane_loss =
+      CreateLoss(LineBALossType::kCauchy, options_.lidar_point_loss_scale,
+                 options_.lidar_point_weight);
   const auto quaternion_manifold =
       std::make_unique<ceres::EigenQuaternionManifold>();
   const auto line_manifold = std::make_unique<OrthonormalLineManifold>();
@@ -308,6 +337,18 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
     image_used[image_index.at(image2.image_id)] = true;
   }
 
+  for (const PointPlaneObservation* plane : point_planes) {
+    Image& image = *find_image(plane->image_id);
+    problem.AddResidualBlock(
+        LidarPointPlaneCostFunctor::Create(plane->normal_in_cam,
+                                           plane->offset_m, plane->sigma_m),
+        point_plane_loss.get(), image.cam_from_world.rotation.coeffs().data(),
+        image.cam_from_world.translation.data(),
+        reconstruction->points3D.at(plane->point3D_id).xyz.data());
+    ++summary.num_lidar_point_residuals;
+    image_used[image_index.at(image.image_id)] = true;
+  }
+
   // Poses: manifolds, priors, gauge, under-constrained images.
   const double rotation_sigma_rad =
       options_.prior_rotation_sigma_deg * M_PI / 180.0;
@@ -358,7 +399,8 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
     ++summary.num_fixed_images;
   }
   if (!use_priors && summary.num_lidar_residuals == 0 &&
-      summary.num_lidar_edge_residuals == 0 && first_image >= 0 &&
+      summary.num_lidar_edge_residuals == 0 &&
+      summary.num_lidar_point_residuals == 0 && first_image >= 0 &&
       second_image >= 0) {
     // No metric information: fix the scale through one coordinate of the
     // second image's translation.
@@ -541,6 +583,20 @@ LineBundleAdjustmentSummary LineBundleAdjuster::Solve(
       edge_error_sum += ComputeRelativePoseEdgeError(*reconstruction, *edge);
     }
     summary.mean_lidar_edge_error = edge_error_sum / edges.size();
+  }
+  if (!point_planes.empty()) {
+    double squared_sum = 0.0;
+    for (const PointPlaneObservation* plane : point_planes) {
+      const Image& image = *find_image(plane->image_id);
+      const double distance =
+          plane->normal_in_cam.dot(
+              image.cam_from_world *
+              reconstruction->points3D.at(plane->point3D_id).xyz) -
+          plane->offset_m;
+      squared_sum += distance * distance;
+    }
+    summary.rms_lidar_point_distance_m =
+        std::sqrt(squared_sum / point_planes.size());
   }
   LOG(INFO) << "Line bundle adjustment: " << summary.ToString();
   if (!summary.usable) {

@@ -43,6 +43,13 @@
 // images are both in the reconstruction: the relative poses stay consistent
 // with the scan registrations. An edge gives each of its images 6 scalar
 // constraints and fixes the metric scale.
+//
+// LIDAR planes of points (SetPointPlanes, src/sfm/lidar_point_planes.h: a
+// plane of an image's own scan where one of its points lies) add
+// + lidar_point_weight sum rho_P(|(n . X_cam - d) / sigma|^2)
+// with LidarPointPlaneCostFunctor (cost_functions.h), one residual per plane
+// whose image and point are in the adjustment: the LIDAR depth of the
+// visual features, metric like the LIDAR line residuals (not in the paper).
 #pragma once
 
 #include <string>
@@ -81,6 +88,16 @@ struct RelativePoseEdge {
       Eigen::Matrix<double, 6, 6>::Identity();
 };
 
+// The LIDAR surface at a 3D point as one image's scan saw it: the plane
+// n . x = offset_m in that image's camera frame (|n| = 1), known to sigma_m.
+struct PointPlaneObservation {
+  image_t image_id = kInvalidImageId;
+  point3D_t point3D_id = kInvalidPoint3DId;
+  Eigen::Vector3d normal_in_cam = Eigen::Vector3d::UnitZ();
+  double offset_m = 0.0;
+  double sigma_m = 0.02;
+};
+
 struct LineBundleAdjustmentOptions {
   // Weight lambda_R of the point reprojection errors (eq. 3); 0 disables
   // the point residuals.
@@ -112,6 +129,13 @@ struct LineBundleAdjustmentOptions {
   // the quadratic part and down-weights a wrong registration.
   double lidar_edge_weight = 1.0;
   double lidar_edge_loss_scale = 3.0;
+
+  // Weight of the LIDAR planes of points (SetPointPlanes); 0 disables them.
+  // Cauchy loss scale in units of each plane's sigma: a feature off the
+  // surface the scan saw there (a thin pole in front of a wall) is
+  // down-weighted.
+  double lidar_point_weight = 1.0;
+  double lidar_point_loss_scale = 3.0;
 
   // Pose priors on camera centre (metres) and orientation (degrees), on the
   // poses given to LineBundleAdjuster::SetPosePriors or, by default, the
@@ -175,6 +199,7 @@ struct LineBundleAdjustmentSummary {
   int num_lidar_residuals = 0;
   int num_pose_prior_residuals = 0;
   int num_lidar_edge_residuals = 0;
+  int num_lidar_point_residuals = 0;
   // Ceres costs (1/2 sum of weighted robustified squared residuals).
   double initial_cost = 0.0;
   double final_cost = 0.0;
@@ -193,6 +218,9 @@ struct LineBundleAdjustmentSummary {
   // Mean whitened error |S r| of the LIDAR edges after the solve (-1 when
   // none); about sqrt(6) = 2.4 for registrations with correct information.
   double mean_lidar_edge_error = -1.0;
+  // Root mean of the points' distances to their LIDAR planes after the
+  // solve, metres (-1 when none).
+  double rms_lidar_point_distance_m = -1.0;
 
   std::string ToString() const;
 };
@@ -209,6 +237,11 @@ class LineBundleAdjuster {
   // an image missing from the reconstruction are skipped.
   void SetRelativePoseEdges(std::vector<RelativePoseEdge> edges);
 
+  // LIDAR planes of points, used when lidar_point_weight > 0; planes whose
+  // image or point is not adjusted (missing, or a point track shorter than
+  // min_point_track_length) are skipped.
+  void SetPointPlanes(std::vector<PointPlaneObservation> planes);
+
   // Refines reconstruction->images[*].cam_from_world, points3D[*].xyz (and
   // .error), camera parameters (if enabled) and each usable line track's
   // plucker_in_world, start/end_in_world and error. Line tracks that are not
@@ -223,6 +256,7 @@ class LineBundleAdjuster {
   LineBundleAdjustmentOptions options_;
   std::unordered_map<image_t, Rigid3d> cam_from_world_priors_;
   std::vector<RelativePoseEdge> relative_pose_edges_;
+  std::vector<PointPlaneObservation> point_planes_;
 };
 
 // Whitened error |S r| of a LIDAR edge under the reconstruction's current

@@ -65,6 +65,8 @@ bool LineBundleAdjustmentOptions::Check() const {
   LINE_BA_CHECK(lidar_loss_scale > 0.0, lidar_loss_scale);
   LINE_BA_CHECK(lidar_edge_weight >= 0.0, lidar_edge_weight);
   LINE_BA_CHECK(lidar_edge_loss_scale > 0.0, lidar_edge_loss_scale);
+  LINE_BA_CHECK(lidar_point_weight >= 0.0, lidar_point_weight);
+  LINE_BA_CHECK(lidar_point_loss_scale > 0.0, lidar_point_loss_scale);
   LINE_BA_CHECK(prior_position_sigma_m >= 0.0, prior_position_sigma_m);
   LINE_BA_CHECK(prior_rotation_sigma_deg >= 0.0, prior_rotation_sigma_deg);
   LINE_BA_CHECK((prior_position_sigma_m > 0.0) ==
@@ -93,15 +95,15 @@ std::string LineBundleAdjustmentSummary::ToString() const {
          << " skipped); residuals: point " << num_point_residuals << ", line "
          << num_line_residuals << ", lidar " << num_lidar_residuals
          << ", prior " << num_pose_prior_residuals << ", lidar edge "
-         << num_lidar_edge_residuals << "; cost "
-         << initial_cost << " -> " << final_cost << " in " << num_iterations
-         << " iterations, " << solve_time_s << " s, "
-         << num_retriangulated_points
-         << " points re-triangulated; mean point error "
-         << mean_point_error_px << " px, mean line error "
-         << mean_line_error_px << " px, rms lidar distance "
-         << rms_lidar_distance_m << " m, mean whitened lidar edge error "
-         << mean_lidar_edge_error;
+         << num_lidar_edge_residuals << ", lidar point "
+         << num_lidar_point_residuals << "; cost " << initial_cost << " -> "
+         << final_cost << " in " << num_iterations << " iterations, "
+         << solve_time_s << " s, " << num_retriangulated_points
+         << " points re-triangulated; mean point error " << mean_point_error_px
+         << " px, mean line error " << mean_line_error_px
+         << " px, rms lidar distance " << rms_lidar_distance_m
+         << " m, mean whitened lidar edge error " << mean_lidar_edge_error
+         << ", rms lidar point distance " << rms_lidar_point_distance_m << " m";
   return stream.str();
 }
 

@@ -93,7 +93,8 @@ bool LidarMapperOptions::Check() const {
   LIDAR_MAPPER_CHECK(prior_rotation_sigma_deg > 0.0, prior_rotation_sigma_deg);
 #undef LIDAR_MAPPER_CHECK
   return extraction.Check() && matching.Check() && adjustment.Check() &&
-         (init_method != "lidar_graph" || lidar_graph.Check());
+         (init_method != "lidar_graph" || lidar_graph.Check()) &&
+         point_planes.Check();
 }
 
 std::string LidarMapperSummary::Outcome() const {

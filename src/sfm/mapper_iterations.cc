@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <memory>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -33,6 +35,18 @@ void RunMapperIterations(const ColmapRunner& colmap,
   const double rotation_sigma_deg =
       PerAxisRotationSigmaDeg(options.prior_rotation_sigma_deg);
   std::vector<LineTrack> tracks;
+  // The scans for the LIDAR planes of the points, loaded once.
+  std::unique_ptr<LidarPlaneScans> plane_scans;
+  if (options.adjustment.lidar_point_weight > 0.0 &&
+      options.adjustment.lambda_R > 0.0) {
+    const std::string database_dir =
+        std::filesystem::path(paths.database_path).parent_path().string();
+    plane_scans = std::make_unique<LidarPlaneScans>(
+        *database, database_dir.empty() ? "." : database_dir, model);
+    LOG(INFO) << "lidar_mapper: " << plane_scans->NumScans()
+              << " scans for the LIDAR planes of the points, range noise "
+              << plane_scans->RangeSigma() << " m";
+  }
   for (int iteration = 0; iteration < options.max_num_iterations;
        ++iteration) {
     const auto iteration_start = std::chrono::steady_clock::now();
@@ -120,6 +134,16 @@ void RunMapperIterations(const ColmapRunner& colmap,
     LineBundleAdjuster adjuster(adjustment);
     adjuster.SetPosePriors(priors);
     adjuster.SetRelativePoseEdges(lidar_edges);
+    if (plane_scans != nullptr) {
+      LidarPointPlaneOptions plane_options = options.point_planes;
+      plane_options.num_threads =
+          options.num_threads > 0 ? options.num_threads : -1;
+      adjuster.SetPointPlanes(
+          plane_scans->Associate(model, adjustment.min_point_track_length,
+                                 plane_options, &record.point_planes));
+      LOG(INFO) << "lidar_mapper: iteration " << iteration + 1 << ": "
+                << record.point_planes.ToString();
+    }
     record.adjustment = adjuster.Solve(&model, &tracks);
     summary->adjustment_seconds += record.adjustment.solve_time_s;
 
