@@ -60,8 +60,9 @@ EXTENSIONS = [
      ["LineMatching.min_overlap", "LineMatching.max_rival_score_ratio",
       "LineMatching.pose_uncertainty_scale",
       "LineMatching.refine_relative_poses"]),
-    ("rounds", "sfm",
-     ["LidarMapper.max_num_iterations", "LidarMapper.max_prior_outlier_ratio"]),
+    # One round is the default since the rounds did not pay on the worst
+    # cell; only the undo by the priors is left of this extension.
+    ("prior_guard", "sfm", ["LidarMapper.max_prior_outlier_ratio"]),
     ("pending_images", "sfm", ["LidarMapper.register_pending_images"]),
     ("line_validation", "mesh",
      ["DelaunayMeshing.validate_lines", "DelaunayMeshing.snap_to_creases"]),

@@ -219,9 +219,10 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      "99.9 % region) instead of staying out, 0/1. Not in "
                      "the paper.");
   options->AddOption(s + "max_num_iterations", &o->max_num_iterations,
-                     "Triangulate / associate / adjust rounds, >= 1; more "
-                     "than 1 (association again on the adjusted poses) is "
-                     "not in the paper.");
+                     "Triangulate / associate / adjust rounds (after a "
+                     "points-only round when the initial poses are the "
+                     "priors), >= 1; more than 1 (association again on the "
+                     "adjusted poses) is not in the paper.");
   options->AddOption(s + "max_position_change_m", &o->max_position_change_m,
                      "Converged when no camera centre moves more, metres.");
   options->AddOption(s + "max_rotation_change_deg",

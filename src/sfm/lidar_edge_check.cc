@@ -78,8 +78,8 @@ void CheckLidarEdges(const std::vector<RelativePoseEdge>& edges,
                     "LIDAR edge error from "
                  << summary->lidar_edge_error_input << " to "
                  << summary->lidar_edge_error_final
-                 << ": the LIDAR graph poses are kept (points and lines are "
-                    "those of the last iteration)";
+                 << ": the LIDAR graph poses are kept (points and lines "
+                    "are rebuilt at them)";
   } else {
     LOG(INFO) << "lidar_mapper: mean whitened LIDAR edge error "
               << summary->lidar_edge_error_input << " (graph) -> "

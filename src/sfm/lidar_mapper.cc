@@ -358,6 +358,10 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
                       &init, &summary);
   if (!init.lidar_edges.empty()) {
     CheckLidarEdges(init.lidar_edges, input_poses, &init.model, &summary);
+    if (summary.kept_lidar_graph_poses) {
+      RebuildStructureAtPoses(colmap, paths, options, work_path, init.held_out,
+                              database, &init.model);
+    }
   }
   summary.iterations_seconds = SecondsSince(stage_start);
   summary.iterations_cpu_seconds = ProcessCpuSeconds() - stage_cpu;

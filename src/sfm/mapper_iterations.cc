@@ -21,6 +21,62 @@
 
 namespace colmap_lidar {
 
+Reconstruction TriangulateAtPoses(
+    const ColmapRunner& colmap, const LidarMapperPaths& paths,
+    const LidarMapperOptions& options, const std::string& work_path,
+    const std::unordered_map<image_t, bool>& held_out, Reconstruction* model) {
+  Reconstruction active = PosesOnly(*model);
+  active.images.erase(std::remove_if(active.images.begin(), active.images.end(),
+                                     [&](const Image& image) {
+                                       return held_out.count(image.image_id) >
+                                              0;
+                                     }),
+                      active.images.end());
+  Reconstruction triangulated = TriangulatePoints(
+      colmap, paths, options, active, JoinPaths(work_path, "poses"),
+      JoinPaths(work_path, "triangulated"));
+  // Keep our image order and poses; take cameras (unchanged) and the
+  // observations from the triangulator. Observations of points the
+  // triangulator dropped for an image we lack cannot occur: every image of
+  // ours was in its input.
+  model->points3D = std::move(triangulated.points3D);
+  model->point3D_file_order.clear();
+  for (Image& image : model->images) {
+    const Image* observed = triangulated.FindImage(image.image_id);
+    image.points2D =
+        observed != nullptr ? observed->points2D : std::vector<Point2D>();
+  }
+  return active;
+}
+
+void RebuildStructureAtPoses(const ColmapRunner& colmap,
+                             const LidarMapperPaths& paths,
+                             const LidarMapperOptions& options,
+                             const std::string& work_path,
+                             const std::unordered_map<image_t, bool>& held_out,
+                             const Database& database, Reconstruction* model) {
+  TriangulateAtPoses(colmap, paths, options, work_path, held_out, model);
+  // The last association's tracks, each line placed anew from its LIDAR
+  // endpoints (else its views) at these poses, without adjustment.
+  std::vector<LineTrack> kept;
+  for (LineTrack& track : LoadLineTracks(database, *model)) {
+    track.plucker_in_world.setZero();
+    if ((InitializeLineFromLidar(*model, &track) ||
+         InitializeLineFromViews(*model, &track)) &&
+        ComputeLineSegment(*model, &track)) {
+      track.error = ComputeLineReprojectionError(*model, track);
+      if (track.error >= 0.0 && track.error <= options.max_line_error_px) {
+        kept.push_back(std::move(track));
+      }
+    }
+  }
+  model->lines3D.clear();
+  SetReconstructionLines(kept, model);
+  LOG(INFO) << "lidar_mapper: structure rebuilt at the kept poses: "
+            << model->points3D.size() << " points, " << kept.size()
+            << " line tracks";
+}
+
 void RunMapperIterations(const ColmapRunner& colmap,
                          const LidarMapperPaths& paths,
                          const LidarMapperOptions& options,
@@ -47,39 +103,21 @@ void RunMapperIterations(const ColmapRunner& colmap,
               << " scans for the LIDAR planes of the points, range noise "
               << plane_scans->RangeSigma() << " m";
   }
-  for (int iteration = 0; iteration < options.max_num_iterations;
-       ++iteration) {
+  // An initialisation by the priors adjusts points only first: the rounds
+  // with lines come after it.
+  const int num_iterations =
+      options.max_num_iterations + (points_only_first ? 1 : 0);
+  for (int iteration = 0; iteration < num_iterations; ++iteration) {
     const auto iteration_start = std::chrono::steady_clock::now();
     LidarMapperIteration record;
     // What the guard restores when it undoes this iteration.
     const Reconstruction model_before = model;
 
     // Points: stock point_triangulator, poses and intrinsics fixed.
-    const std::string poses_path = JoinPaths(work_path, "poses");
+    const Reconstruction active =
+        TriangulateAtPoses(colmap, paths, options, work_path, held_out, &model);
     const std::string triangulated_path = JoinPaths(work_path, "triangulated");
-    Reconstruction active = PosesOnly(model);
-    if (!held_out.empty()) {
-      active.images.erase(
-          std::remove_if(active.images.begin(), active.images.end(),
-                         [&](const Image& image) {
-                           return held_out.count(image.image_id) > 0;
-                         }),
-          active.images.end());
-    }
-    Reconstruction triangulated = TriangulatePoints(
-        colmap, paths, options, active, poses_path, triangulated_path);
-    // Keep our image order and poses; take cameras (unchanged) and the
-    // observations from the triangulator.
-    model.points3D = std::move(triangulated.points3D);
-    model.point3D_file_order.clear();
-    for (Image& image : model.images) {
-      const Image* observed = triangulated.FindImage(image.image_id);
-      image.points2D =
-          observed != nullptr ? observed->points2D : std::vector<Point2D>();
-    }
     model.lines3D.clear();
-    // Observations of points the triangulator dropped for an image we lack
-    // cannot occur: every image of ours was in its input.
     record.num_points = static_cast<int>(model.points3D.size());
 
     // Pending images: registered against this iteration's points; they join
