@@ -28,10 +28,12 @@ constexpr size_t kMaxNoiseScans = 8;
 }  // namespace
 
 bool LidarPointPlaneOptions::Check() const {
-#define PLANES_CHECK(condition, name)                                     \
-  if (!(condition)) {                                                     \
-    LOG(ERROR) << "LidarPointPlaneOptions: invalid " #name " = " << name; \
-    return false;                                                         \
+  // Named as lidar_mapper's options (LidarMapper.point_plane_<field>).
+#define PLANES_CHECK(condition, name)                                      \
+  if (!(condition)) {                                                      \
+    LOG(ERROR) << "LidarMapper.point_plane_" #name " is invalid: " << name \
+               << " (must satisfy " #condition ")";                        \
+    return false;                                                          \
   }
   PLANES_CHECK(min_radius_m > 0.0, min_radius_m);
   PLANES_CHECK(max_radius_range_fraction > 0.0, max_radius_range_fraction);
