@@ -10,7 +10,7 @@
 # variant beside the run's own figures.
 #
 # Usage: bash scripts/bench_resfm.sh --work DIR --name NAME [--cells a,b]
-#          [--rematch] [-- lidar_mapper options...]
+#          [--rematch] [--relines] [-- lidar_mapper options...]
 #   work   the matrix's work folder (--work of bench_matrix.sh)
 #   name   the variant's folder under each run (DIR/CELL/runK/resfm/NAME)
 #   cells  default: every synthetic cell of the work folder with a finished
@@ -18,21 +18,28 @@
 #   rematch  clear the copy's matches and two-view geometries first (the
 #          features stay): lidar_mapper matches again (e.g. with
 #          --LidarMapper.matcher exact)
+#   relines  clear the copy's line segments, matches and tracks first:
+#          lidar_mapper extracts the lines again (this binary's extraction,
+#          e.g. an A/B of two builds' line extractors)
 # COLMAP_LIDAR_BIN selects the binary (default build/colmap-lidar).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TOOL=bench_resfm
-HELP_LINES=2,21
+HELP_LINES=2,24
 ALLOW_KITTI=0
 source scripts/matrix_variant_lib.sh
-# --rematch is ours (before --; what follows -- goes to lidar_mapper).
+# --rematch and --relines are ours (before --; what follows -- goes to
+# lidar_mapper).
 REMATCH=0
+RELINES=0
 ARGS=()
 AFTER_DASHES=0
 for arg in "$@"; do
   [[ "${arg}" == -- ]] && AFTER_DASHES=1
   if [[ ${AFTER_DASHES} -eq 0 && "${arg}" == --rematch ]]; then
     REMATCH=1
+  elif [[ ${AFTER_DASHES} -eq 0 && "${arg}" == --relines ]]; then
+    RELINES=1
   else
     ARGS+=("${arg}")
   fi
@@ -62,6 +69,14 @@ for cell in "${SELECTED[@]}"; do
       /usr/bin/python3 -c 'import sqlite3, sys
 db = sqlite3.connect(sys.argv[1])
 db.execute("DELETE FROM matches"); db.execute("DELETE FROM two_view_geometries")
+db.commit()' "${out}/ws/database.db"
+    fi
+    if [[ ${RELINES} -eq 1 ]]; then
+      /usr/bin/python3 -c 'import sqlite3, sys
+db = sqlite3.connect(sys.argv[1])
+for table in ("ext_line_track_elements", "ext_line_tracks", "ext_line_matches",
+              "ext_line_segments"):
+    db.execute(f"DELETE FROM {table}")
 db.commit()' "${out}/ws/database.db"
     fi
     ln -s "${run}/ws/images" "${out}/ws/images"

@@ -10,15 +10,25 @@ lidar.vertical_fov_deg), and prints per class its share of the surface
 pixels and the share our maps cover. A point that no other frame sees can
 only get a depth from the LIDAR; one outside the LIDAR's field only from
 photometry. With --by_depth, also per depth range: the share with a
-photometric depth and with a geometric (filtered) one.
+photometric depth and with a geometric (filtered) one. With --by_texture,
+also by the image's texture around the pixel (standard deviation of the
+grey values in [0, 1] over a 9 x 9 window, PatchMatch's NCC window): below
+0.005 the patch's variance is under the NCC cost's floor (kMinVariance in
+src/mvs/ncc_cost.cc), and only the LIDAR can give such a pixel a depth.
+With --by_error, where the covered pixels more than 5 cm off along the ray
+lie: at a depth edge of the truth (its depths over 7 x 7 pixels spanning
+more than 5 %), at grazing incidence (the ray within 14 deg of the true
+surface), elsewhere; by depth; and how many carry the true depth (within 5
+cm) of a pixel at most 1 or 2 pixels away (a boundary placed off).
 
 Usage: /usr/bin/python3 scripts/depth_coverage_report.py --workspace WS
-         --dataset DATASET [--by_depth]
+         --dataset DATASET [--by_depth] [--by_texture] [--by_error]
   WS       the pipeline's workspace (WS/dense/stereo/depth_maps)
   DATASET  the synthetic recording (calibration.yaml, poses_gt.txt,
            ground_truth/depth_maps; colmap-lidar synthesize)
 Cameras without distortion only (PINHOLE, SIMPLE_PINHOLE). Needs numpy
-(Debian: python3-numpy).
+(Debian: python3-numpy); --by_texture also scipy and PIL (python3-scipy,
+python3-pil), --by_error scipy.
 """
 
 import argparse
@@ -36,6 +46,8 @@ def main():
     parser.add_argument('--workspace', required=True)
     parser.add_argument('--dataset', required=True)
     parser.add_argument('--by_depth', action='store_true')
+    parser.add_argument('--by_texture', action='store_true')
+    parser.add_argument('--by_error', action='store_true')
     args = parser.parse_args()
     calib_path = os.path.join(args.dataset, 'calibration.yaml')
     if 'vertical_fov_deg' not in open(calib_path).read():
@@ -60,6 +72,9 @@ def main():
     covered = np.zeros(len(classes))
     bins = [0, 5, 10, 20, 40, np.inf]
     by_depth = np.zeros((2, len(bins) - 1, 3))
+    texture_bins = [0.0, 0.005, 0.02, np.inf]
+    by_texture = np.zeros((2, len(texture_bins) - 1, 2))
+    errors = ErrorSplit((cols - cx) / fx, (rows - cy) / fy)
     for name in names:
         depth = truth[name]
         valid = depth > 0
@@ -102,6 +117,17 @@ def main():
                     selected = (d >= bins[b]) & (d < bins[b + 1]) & (in_field == bool(lidar))
                     by_depth[lidar, b] += [selected.sum(), (selected & photometric).sum(),
                                            (selected & ours).sum()]
+        if args.by_error:
+            errors.add(depth, read_mat(os.path.join(maps_dir, f'{name}.png.geometric.bin')))
+        if args.by_texture:
+            texture = local_grey_stddev(
+                os.path.join(args.dataset, 'images', f'{name}.png'))[valid]
+            for b in range(len(texture_bins) - 1):
+                for lidar in (0, 1):
+                    selected = ((texture >= texture_bins[b]) &
+                                (texture < texture_bins[b + 1]) &
+                                (in_field == bool(lidar)))
+                    by_texture[lidar, b] += [selected.sum(), (selected & ours).sum()]
     print(f'coverage {100 * covered.sum() / total.sum():.1f} % of '
           f'{int(total.sum())} surface pixels, {len(names)} frames')
     print('| surface pixels | share % | covered % |')
@@ -120,6 +146,95 @@ def main():
                     continue
                 print(f'| {"in" if lidar else "outside"} | {bins[b]:g}-{bins[b + 1]:g} | '
                       f'{100 * n / total.sum():.1f} | {100 * photo / n:.1f} | {100 * geo / n:.1f} |')
+    if args.by_texture:
+        print()
+        print('| LIDAR field | grey std over 9x9 | share % | geometric % |')
+        print('|---|---|---|---|')
+        for lidar in (1, 0):
+            for b in range(len(texture_bins) - 1):
+                n, geo = by_texture[lidar, b]
+                if n == 0:
+                    continue
+                print(f'| {"in" if lidar else "outside"} | '
+                      f'{texture_bins[b]:g}-{texture_bins[b + 1]:g} | '
+                      f'{100 * n / total.sum():.1f} | {100 * geo / n:.1f} |')
+    if args.by_error:
+        print()
+        errors.report()
+
+
+class ErrorSplit:
+    """Where the covered pixels more than 5 cm off along the ray lie."""
+    bins = [0, 5, 10, 20, np.inf]
+
+    def __init__(self, x, y):
+        ray = np.stack([x, y, np.ones_like(x)], -1)
+        self.ray = ray / np.linalg.norm(ray, axis=-1, keepdims=True)
+        self.x, self.y = x, y
+        self.counts = {}
+
+    def _add(self, key, value):
+        self.counts[key] = self.counts.get(key, 0) + int(value)
+
+    def add(self, truth, ours):
+        from scipy.ndimage import maximum_filter, minimum_filter  # noqa: E402
+        valid = (truth > 0) & (ours > 0)
+        off = valid & (np.abs(ours - truth) > 0.05)
+        spread = (maximum_filter(np.where(truth > 0, truth, 0.0), size=7) /
+                  np.maximum(minimum_filter(np.where(truth > 0, truth, 1e9), size=7), 1e-6))
+        edge = spread > 1.05
+        points = np.stack([self.x * truth, self.y * truth, truth], -1)
+        normal = np.cross(np.gradient(points, axis=1), np.gradient(points, axis=0))
+        normal /= np.linalg.norm(normal, axis=-1, keepdims=True) + 1e-12
+        grazing = np.abs((normal * self.ray).sum(-1)) < 0.25
+        self._add('covered', valid.sum())
+        self._add('off', off.sum())
+        self._add('edge', (off & edge).sum())
+        self._add('grazing', (off & ~edge & grazing).sum())
+        for b in range(len(self.bins) - 1):
+            selected = (truth >= self.bins[b]) & (truth < self.bins[b + 1])
+            self._add(f'covered{b}', (valid & selected).sum())
+            self._add(f'off{b}', (off & selected).sum())
+        rows, cols = np.nonzero(off)
+        padded = np.pad(truth, 2)
+        best = {1: np.full(len(rows), np.inf), 2: np.full(len(rows), np.inf)}
+        for dr in range(-2, 3):
+            for dc in range(-2, 3):
+                t = padded[rows + 2 + dr, cols + 2 + dc]
+                e = np.where(t > 0, np.abs(ours[rows, cols] - t), np.inf)
+                for r in (1, 2):
+                    if max(abs(dr), abs(dc)) <= r:
+                        best[r] = np.minimum(best[r], e)
+        for r in (1, 2):
+            self._add(f'near{r}', (best[r] <= 0.05).sum())
+
+    def report(self):
+        c = self.counts
+        covered, off = max(c.get('covered', 0), 1), max(c.get('off', 0), 1)
+        print(f"more than 5 cm off along the ray: {100 * c['off'] / covered:.1f} % of the "
+              f"covered pixels: {100 * c['edge'] / covered:.1f} at depth edges of the truth, "
+              f"{100 * c['grazing'] / covered:.1f} at grazing incidence, "
+              f"{100 * (c['off'] - c['edge'] - c['grazing']) / covered:.1f} elsewhere")
+        print(f"of those, with the true depth of a pixel at most 1 / 2 pixels away: "
+              f"{100 * c['near1'] / off:.1f} / {100 * c['near2'] / off:.1f} %")
+        print('| depth, m | share of the covered % | off by more than 5 cm % |')
+        print('|---|---|---|')
+        for b in range(len(self.bins) - 1):
+            n = c.get(f'covered{b}', 0)
+            if n:
+                print(f'| {self.bins[b]:g}-{self.bins[b + 1]:g} | {100 * n / covered:.1f} | '
+                      f"{100 * c[f'off{b}'] / n:.1f} |")
+
+
+def local_grey_stddev(path, window=9):
+    """Per pixel, the standard deviation of the grey values (in [0, 1]) over
+    a window x window neighbourhood."""
+    from PIL import Image  # noqa: E402 (only --by_texture needs it)
+    from scipy.ndimage import uniform_filter  # noqa: E402
+    grey = np.asarray(Image.open(path).convert('L'), dtype=float) / 255.0
+    mean = uniform_filter(grey, window)
+    mean_sq = uniform_filter(grey * grey, window)
+    return np.sqrt(np.maximum(mean_sq - mean * mean, 0.0))
 
 
 if __name__ == '__main__':

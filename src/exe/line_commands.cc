@@ -169,6 +169,13 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
                      &o->association.texture.exclusion_distance,
                      "Texture test: points this near the line are ignored, "
                      "metres.");
+  options->AddOption(s + "texture_exclusion_noise_sigmas",
+                     &o->association.texture.exclusion_noise_sigmas,
+                     "Texture test: points within this many range-noise "
+                     "sigmas of the line (measured on the scan, or "
+                     "plane_range_noise_m) are ignored too (at most a "
+                     "quarter of the radius), >= 0; 0: off. Not in the "
+                     "paper.");
   options->AddOption(s + "texture_min_side_points",
                      &o->association.texture.min_side_points,
                      "Texture test: points per side for a plane, >= 3.");
@@ -189,6 +196,13 @@ void AddLineExtractionOptions(LineExtractionOptions* o,
                      "Occluding contour: the face reaches at least this far "
                      "from the line, metres (else a thin object's "
                      "silhouette, discarded).");
+  options->AddOption(s + "texture_min_open_space_points",
+                     &o->association.texture.min_open_space_points,
+                     "Occluding contour: LIDAR rays past the empty side that "
+                     "end behind the face's plane (open space) or on it (the "
+                     "face goes on past a gap between rings: texture), at "
+                     "least this many for either; else unknown, >= 0; 0: "
+                     "off (an empty side is open space). Not in the paper.");
   options->AddOption(s + "texture_keep_unknown",
                      &o->association.texture.keep_unknown,
                      "Keep lines with too few LIDAR points around them to "

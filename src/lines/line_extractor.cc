@@ -83,11 +83,24 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
   }
   result.timings.projection_ms = timer.Lap();
 
+  // The scan's range noise: the texture test's exclusion and the plane
+  // lifting's inlier distance.
+  const bool need_noise =
+      options.planes.enabled ||
+      (options.association.texture.enabled &&
+       options.association.texture.exclusion_noise_sigmas > 0.0);
+  result.range_noise_m = options.planes.range_noise_m;
+  if (need_noise && result.range_noise_m <= 0.0) {
+    result.range_noise_m =
+        EstimateRangeNoise({scan}, RangeNoiseOptions()).sigma_m;
+  }
+  EdgeAssociationOptions association = options.association;
+  association.texture.range_noise_m = result.range_noise_m;
+
   std::vector<LiftResult> edge_results;
-  std::vector<ViewLineSegment> lifted =
-      LiftSegments(segments, camera, projected, result.visible_edge_point_idxs,
-                   options.association, &result.lift_result_counts,
-                   &ring_neighbors, nullptr, &edge_results);
+  std::vector<ViewLineSegment> lifted = LiftSegments(
+      segments, camera, projected, result.visible_edge_point_idxs, association,
+      &result.lift_result_counts, &ring_neighbors, nullptr, &edge_results);
   result.outcomes.resize(segments.size());
   for (size_t i = 0, k = 0; i < segments.size(); ++i) {
     SegmentOutcome& outcome = result.outcomes[i];
@@ -103,11 +116,6 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
   result.timings.association_ms = timer.Lap();
 
   if (options.planes.enabled) {
-    result.range_noise_m = options.planes.range_noise_m;
-    if (result.range_noise_m <= 0.0) {
-      result.range_noise_m =
-          EstimateRangeNoise({scan}, RangeNoiseOptions()).sigma_m;
-    }
     for (SegmentOutcome& outcome : result.outcomes) {
       if (outcome.edge_result == LiftResult::kLifted) continue;
       ViewLineSegment plane_lifted;

@@ -83,7 +83,8 @@ struct ViewLines {
   int num_plane_lifted_segments = 0;
   // Every LSD segment (after the minimum length), in detection order.
   std::vector<SegmentOutcome> outcomes;
-  // The range noise sigma the plane lifting used, metres.
+  // The scan's range noise sigma that the texture test and the plane
+  // lifting used, metres (0: neither needed it).
   double range_noise_m = 0.0;
   // Edge points of the scan and those the camera sees (for the overlay:
   // indices into the scan and their pixels).

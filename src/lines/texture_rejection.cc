@@ -49,6 +49,15 @@ bool TextureRejectionOptions::Check() const {
                   "texture_exclusion_distance >= 0";
     return false;
   }
+  if (!(exclusion_noise_sigmas >= 0.0) || !(range_noise_m >= 0.0)) {
+    LOG(ERROR) << "LineExtraction.texture_exclusion_noise_sigmas and the "
+                  "range noise must be >= 0";
+    return false;
+  }
+  if (min_open_space_points < 0) {
+    LOG(ERROR) << "LineExtraction.texture_min_open_space_points must be >= 0";
+    return false;
+  }
   if (min_side_points < 3) {
     LOG(ERROR) << "LineExtraction.texture_min_side_points must be >= 3";
     return false;
@@ -101,16 +110,35 @@ LineSurfaceType ClassifyLineSurface(const Eigen::Vector3d& start,
   if (away.dot(start + end) < 0.0) {
     away = -away;
   }
+  const double exclusion =
+      std::max(options.exclusion_distance,
+               std::min(options.exclusion_noise_sigmas * options.range_noise_m,
+                        0.25 * options.radius));
   Side sides[2];
+  // The points beyond the radius whose rays cross the band (the plane
+  // through the line normal to `away`, within the radius) at the line.
+  std::vector<Eigen::Vector3d> passing[2];
+  const double line_depth = away.dot(start);  // the same for `end`
   for (const Eigen::Vector3d& point : points) {
     const Eigen::Vector3d offset = point - start;
     const double t = direction.dot(offset);
-    if (t < 0.0 || t > length) {
-      continue;
-    }
     const Eigen::Vector3d perpendicular = offset - t * direction;
     const double distance = perpendicular.norm();
-    if (distance > options.radius || distance < options.exclusion_distance) {
+    if (distance > options.radius) {
+      const double point_depth = away.dot(point);
+      if (line_depth > 0.0 && point_depth > line_depth) {
+        const Eigen::Vector3d crossing = point * (line_depth / point_depth);
+        const double crossing_t = direction.dot(crossing - start);
+        const double across = plane_normal.dot(crossing);
+        if (crossing_t >= 0.0 && crossing_t <= length &&
+            std::abs(across) >= exclusion &&
+            std::abs(across) <= options.radius) {
+          passing[across > 0.0 ? 0 : 1].push_back(point);
+        }
+      }
+      continue;
+    }
+    if (t < 0.0 || t > length || distance < exclusion) {
       continue;
     }
     const double across = plane_normal.dot(perpendicular);
@@ -140,10 +168,40 @@ LineSurfaceType ClassifyLineSurface(const Eigen::Vector3d& start,
   }
   if (has_face[0] != has_face[1]) {
     const int face = has_face[0] ? 0 : 1;
-    return residuals[face] <= options.max_face_residual &&
-                   extents[face] >= options.min_face_extent
-               ? LineSurfaceType::kOcclusion
-               : LineSurfaceType::kSilhouette;
+    if (residuals[face] > options.max_face_residual ||
+        extents[face] < options.min_face_extent) {
+      return LineSurfaceType::kSilhouette;
+    }
+    if (options.min_open_space_points == 0) {
+      return LineSurfaceType::kOcclusion;
+    }
+    // The face's plane: through the line, towards angles[face] about it.
+    const Eigen::Vector3d into_face =
+        std::cos(angles[face]) * away + std::sin(angles[face]) * plane_normal;
+    const Eigen::Vector3d face_normal = direction.cross(into_face).normalized();
+    // The camera's side of the plane: negative offsets lie behind it.
+    const double camera_sign = face_normal.dot(-start) >= 0.0 ? 1.0 : -1.0;
+    // On the plane within the noise the face's points show, at least the
+    // exclusion distance (the points nearer the line belong to no side).
+    const double tolerance = std::max(3.0 * residuals[face], exclusion);
+    int num_behind = 0;
+    int num_on_face = 0;
+    for (const Eigen::Vector3d& point : passing[1 - face]) {
+      const double offset = camera_sign * face_normal.dot(point - start);
+      if (offset < -tolerance) {
+        ++num_behind;
+      } else if (offset <= tolerance) {
+        ++num_on_face;
+      }
+    }
+    if (num_behind >= options.min_open_space_points &&
+        num_behind >= num_on_face) {
+      return LineSurfaceType::kOcclusion;
+    }
+    if (num_on_face >= options.min_open_space_points) {
+      return LineSurfaceType::kTexture;
+    }
+    return LineSurfaceType::kUnknown;
   }
   return LineSurfaceType::kUnknown;
 }

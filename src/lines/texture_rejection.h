@@ -19,13 +19,24 @@
 //    between the two faces; a crease when it reaches min_normal_change_deg,
 //    else texture.
 //  * One side has a face and the other (almost) no points within the radius:
-//    an occluding contour. It is kept as an edge (kOcclusion) only when the
-//    face is planar (residual at most max_face_residual) and extends at
-//    least min_face_extent from the line: the boundary of a planar face is a
-//    crease whose second face is hidden (a box or building corner against
-//    the background). Otherwise it is the silhouette of a curved or thin
-//    object (tree trunk, pole, bollard), whose position depends on the
-//    viewpoint and which is no crease (kSilhouette).
+//    a silhouette of a curved or thin object (tree trunk, pole, bollard),
+//    whose position depends on the viewpoint and which is no crease
+//    (kSilhouette), unless the face is planar (residual at most
+//    max_face_residual) and extends at least min_face_extent from the line.
+//    Then the LIDAR rays that pass the empty side of the line (beyond the
+//    radius, crossing the band at the line) decide, by where they end
+//    against the face's plane extended past the line:
+//     - behind it: open space, an occluding contour (kOcclusion; the
+//       boundary of a planar face is a crease whose second face is hidden,
+//       a box or building corner against the background);
+//     - on it: the face goes on past a gap of the scan (kTexture). A
+//       ring-scanning LIDAR leaves such gaps: on the ground the rings lie
+//       r^2 dtheta / h apart, a metre at 10 m for a 32-ring unit, so a
+//       paving joint there has the ground on one side and nothing within
+//       the radius on the other;
+//     - neither (no ray, e.g. sky, or rays stopped in front): kUnknown.
+//    A side needs min_open_space_points rays for a verdict (0: an empty
+//    side is always open space, the rule before; not in the paper).
 //  * Otherwise (too few points) the LIDAR cannot tell (kUnknown).
 #pragma once
 
@@ -40,8 +51,22 @@ struct TextureRejectionOptions {
   bool enabled = true;
   // Points within this distance of the segment are its neighbours, metres.
   double radius = 0.3;
-  // Points nearer than this to the line belong to neither side, metres.
+  // Points nearer than this to the line belong to neither side, metres ...
   double exclusion_distance = 0.02;
+  // ... nor those nearer than this many range-noise sigmas, at most a
+  // quarter of the radius: a point d from the line has an angle about it
+  // uncertain by sigma / d, so the points of the ring that the line was
+  // fitted to, a few cm from it, have angles of noise only (a ground line
+  // along a 2 cm-noise ring read as a 100 deg crease). The cap keeps a
+  // band for scans whose measured noise includes more than the range
+  // noise (KITTI's HDL-64E measures 5-8 cm: half the radius lost a third of
+  // its segments, the edges of thin plates among them). 0: off. Not in the
+  // paper.
+  double exclusion_noise_sigmas = 3.0;
+  // The scan's range noise (standard deviation, metres), set by the caller
+  // per scan (LineExtraction measures it, or takes plane_range_noise_m);
+  // 0: unknown, exclusion_distance only.
+  double range_noise_m = 0.0;
   // A side needs this many points for a face.
   int min_side_points = 6;
   // Normal change between the two faces of an edge, degrees. Man-made
@@ -56,7 +81,13 @@ struct TextureRejectionOptions {
   double max_face_residual = 0.02;
   // ... and its points reach at least this far from the line, metres.
   double min_face_extent = 0.2;
-  // Keep lines the LIDAR cannot classify (too few points on both sides).
+  // Occluding contour: rays past the empty side that end behind the face's
+  // extended plane (open space) or on it (the face continues: texture), at
+  // least this many for either verdict; else unknown. 0: off (an empty side
+  // is open space). Not in the paper.
+  int min_open_space_points = 3;
+  // Keep lines the LIDAR cannot classify (too few points on both sides, or
+  // one face and no ray past the other).
   bool keep_unknown = false;
 
   bool Check() const;
@@ -75,8 +106,9 @@ bool IsKeptSurfaceType(LineSurfaceType type,
                        const TextureRejectionOptions& options);
 
 // start/end and the points are in the camera frame (camera centre at the
-// origin). `points` may contain any points; those farther than the radius
-// from the segment are ignored.
+// origin). `points` may contain any points: those within the radius of the
+// segment make the faces; those beyond it whose rays cross the band at the
+// line tell open space from a gap of the scan (see above).
 LineSurfaceType ClassifyLineSurface(const Eigen::Vector3d& start,
                                     const Eigen::Vector3d& end,
                                     const std::vector<Eigen::Vector3d>& points,
