@@ -632,8 +632,10 @@ TEST(JsonOutputs, LineOutcomes) {
   lifted.lifted2D = lifted.segment;
   lifted.start3D_in_cam = {-1.0, 0.5, 5.0};
   lifted.end3D_in_cam = {1.0, -0.25, 7.0};
+  lifted.edge_surface = LineSurfaceType::kCrease;
   SegmentOutcome rejected = lifted;
   rejected.edge_result = LiftResult::kTooFewPoints;
+  rejected.edge_surface.reset();
   rejected.plane_result = PlaneLiftResult::kBoundary;
   lines.outcomes = {lifted, rejected};
   const std::string path =
@@ -641,7 +643,9 @@ TEST(JsonOutputs, LineOutcomes) {
   WriteJsonFile(path, LineOutcomesToJson("000000.png", lines));
   ExpectKeysAsDocumented(path, KeyTable("line_outcomes"));
   const Json json = ReadJsonFile(path);
+  EXPECT_EQ(json["segments"][0]["edge_surface"], "crease");
   EXPECT_EQ(json["segments"][1]["plane_result"], "boundary");
+  EXPECT_FALSE(json["segments"][1].contains("edge_surface"));
   EXPECT_FALSE(json["segments"][1].contains("start3D_in_cam"));
 }
 

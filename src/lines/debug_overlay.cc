@@ -29,17 +29,25 @@ cv::Point ToCv(const Eigen::Vector2d& pixel) {
 
 // The colour of an LSD segment that was not lifted, by the first reason
 // that stopped it: no LIDAR support at all (black), a texture line or
-// the same surface on both sides (blue), a fit that did not agree with the
-// segment (orange), too little support along it (magenta).
+// the same surface on both sides (blue), a surface the LIDAR cannot
+// classify (one face and no ray past the other side, or too few points:
+// white), a fit that did not agree with the segment (orange), too little
+// support along it (magenta).
 const cv::Scalar kNoSupportColor(0, 0, 0);
 const cv::Scalar kTextureColor(255, 120, 0);
+const cv::Scalar kUnknownSurfaceColor(255, 255, 255);
 const cv::Scalar kDisagreeColor(0, 140, 255);
 const cv::Scalar kLowCoverageColor(200, 0, 200);
 
 cv::Scalar SegmentRejectionColor(const SegmentOutcome& outcome) {
-  const bool texture = outcome.edge_result == LiftResult::kTexture ||
-                       outcome.plane_result == PlaneLiftResult::kTexture;
+  const bool unknown_surface =
+      outcome.edge_result == LiftResult::kTexture &&
+      outcome.edge_surface == LineSurfaceType::kUnknown;
+  const bool texture =
+      (outcome.edge_result == LiftResult::kTexture && !unknown_surface) ||
+      outcome.plane_result == PlaneLiftResult::kTexture;
   if (texture) return kTextureColor;
+  if (unknown_surface) return kUnknownSurfaceColor;
   const bool disagree =
       outcome.edge_result == LiftResult::kReprojection ||
       outcome.edge_result == LiftResult::kBackProjection ||
@@ -59,6 +67,7 @@ void DrawLegend(cv::Mat* overlay) {
   const std::pair<const char*, cv::Scalar> entries[] = {
       {"no LIDAR support", kNoSupportColor},
       {"texture / one surface", kTextureColor},
+      {"LIDAR cannot tell", kUnknownSurfaceColor},
       {"fit disagrees", kDisagreeColor},
       {"low coverage", kLowCoverageColor}};
   int y = 14;
@@ -140,6 +149,9 @@ Json LineOutcomesToJson(const std::string& image_name,
     segment["end"] = VectorToJson(outcome.segment.end);
     segment["edge_result"] = LiftResultName(outcome.edge_result);
     segment["plane_result"] = PlaneLiftResultName(outcome.plane_result);
+    if (outcome.edge_surface.has_value()) {
+      segment["edge_surface"] = LineSurfaceTypeName(*outcome.edge_surface);
+    }
     if (outcome.Lifted()) {
       segment["lifted_start"] = VectorToJson(outcome.lifted2D.start);
       segment["lifted_end"] = VectorToJson(outcome.lifted2D.end);

@@ -197,7 +197,11 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
                        const PixelGrid& edge_grid,
                        const EdgeAssociationOptions& options,
                        ViewLineSegment* lifted,
-                       const RingNeighbors* ring_neighbors) {
+                       const RingNeighbors* ring_neighbors,
+                       std::optional<LineSurfaceType>* surface) {
+  if (surface != nullptr) {
+    surface->reset();
+  }
   const double length = segment.Length();
   const Eigen::Vector2d direction = segment.Direction();
   const Eigen::Vector2d normal(-direction.y(), direction.x());
@@ -359,6 +363,9 @@ LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
         result.start3D_in_cam, result.end3D_in_cam,
         NeighbourPoints(result, camera, projected, options.texture.radius),
         options.texture);
+    if (surface != nullptr) {
+      *surface = type;
+    }
     if (!IsKeptSurfaceType(type, options.texture)) {
       return LiftResult::kTexture;
     }
@@ -371,9 +378,9 @@ std::vector<ViewLineSegment> LiftSegments(
     const std::vector<LineSegment2D>& segments, const Camera& camera,
     const ProjectedScan& projected, const std::vector<int>& edge_point_idxs,
     const EdgeAssociationOptions& options, std::vector<int>* counts,
-    const RingNeighbors* ring_neighbors,
-    std::vector<LineSegment2D>* not_lifted,
-    std::vector<LiftResult>* results) {
+    const RingNeighbors* ring_neighbors, std::vector<LineSegment2D>* not_lifted,
+    std::vector<LiftResult>* results,
+    std::vector<std::optional<LineSurfaceType>>* surfaces) {
   PixelGrid edge_grid(static_cast<int>(camera.width),
                       static_cast<int>(camera.height), 16);
   for (const int idx : edge_point_idxs) {
@@ -388,12 +395,20 @@ std::vector<ViewLineSegment> LiftSegments(
     results->clear();
     results->reserve(segments.size());
   }
+  if (surfaces != nullptr) {
+    surfaces->clear();
+    surfaces->reserve(segments.size());
+  }
   std::vector<ViewLineSegment> lifted_segments;
   for (const LineSegment2D& segment : segments) {
     ViewLineSegment lifted;
+    std::optional<LineSurfaceType> surface;
     const LiftResult result =
         LiftSegment(segment, camera, projected, edge_grid, options, &lifted,
-                    ring_neighbors);
+                    ring_neighbors, &surface);
+    if (surfaces != nullptr) {
+      surfaces->push_back(surface);
+    }
     if (counts != nullptr) {
       ++(*counts)[static_cast<int>(result)];
     }

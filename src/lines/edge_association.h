@@ -18,6 +18,7 @@
 // Everything is in the camera frame of the view.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "colmap_ext/scene/camera.h"
@@ -99,25 +100,30 @@ enum class LiftResult {
 // visible edge points. On kLifted, *lifted has the 2D segment, the 3D
 // endpoints and the inlier indices (no descriptor).
 // ring_neighbors may be null or empty (no refinement along rings).
+// surface, when given, receives the surface test's verdict when the
+// segment reached it (lifted, or kTexture), else is reset.
 LiftResult LiftSegment(const LineSegment2D& segment, const Camera& camera,
                        const ProjectedScan& projected,
                        const PixelGrid& edge_grid,
                        const EdgeAssociationOptions& options,
                        ViewLineSegment* lifted,
-                       const RingNeighbors* ring_neighbors = nullptr);
+                       const RingNeighbors* ring_neighbors = nullptr,
+                       std::optional<LineSurfaceType>* surface = nullptr);
 
 // Lifts every segment; returns the lifted ones in input order. counts, when
 // given, receives the number of segments per LiftResult (indexed by the
 // enum value); not_lifted, when given, the segments that were not lifted;
 // results, when given, the outcome of every segment (same order as
-// segments).
+// segments); surfaces, when given, the surface test's verdict of every
+// segment that reached it (same order).
 std::vector<ViewLineSegment> LiftSegments(
     const std::vector<LineSegment2D>& segments, const Camera& camera,
     const ProjectedScan& projected, const std::vector<int>& edge_point_idxs,
     const EdgeAssociationOptions& options, std::vector<int>* counts = nullptr,
     const RingNeighbors* ring_neighbors = nullptr,
     std::vector<LineSegment2D>* not_lifted = nullptr,
-    std::vector<LiftResult>* results = nullptr);
+    std::vector<LiftResult>* results = nullptr,
+    std::vector<std::optional<LineSurfaceType>>* surfaces = nullptr);
 
 // A short name of the outcome ("lifted", "too_few_points", ...).
 const char* LiftResultName(LiftResult result);

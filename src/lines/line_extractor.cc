@@ -98,14 +98,17 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
   association.texture.range_noise_m = result.range_noise_m;
 
   std::vector<LiftResult> edge_results;
-  std::vector<ViewLineSegment> lifted = LiftSegments(
-      segments, camera, projected, result.visible_edge_point_idxs, association,
-      &result.lift_result_counts, &ring_neighbors, nullptr, &edge_results);
+  std::vector<std::optional<LineSurfaceType>> edge_surfaces;
+  std::vector<ViewLineSegment> lifted =
+      LiftSegments(segments, camera, projected, result.visible_edge_point_idxs,
+                   association, &result.lift_result_counts, &ring_neighbors,
+                   nullptr, &edge_results, &edge_surfaces);
   result.outcomes.resize(segments.size());
   for (size_t i = 0, k = 0; i < segments.size(); ++i) {
     SegmentOutcome& outcome = result.outcomes[i];
     outcome.segment = segments[i];
     outcome.edge_result = edge_results[i];
+    outcome.edge_surface = edge_surfaces[i];
     if (outcome.edge_result == LiftResult::kLifted) {
       outcome.lifted2D = lifted[k].segment2D;
       outcome.start3D_in_cam = lifted[k].start3D_in_cam;

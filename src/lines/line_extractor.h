@@ -5,9 +5,9 @@
 // descriptor per resulting segment.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
 
 #include "colmap_ext/scene/camera.h"
 #include "colmap_ext/scene/rigid3.h"
@@ -57,6 +57,10 @@ struct SegmentOutcome {
   LineSegment2D segment;
   LiftResult edge_result = LiftResult::kTooFewPoints;
   PlaneLiftResult plane_result = PlaneLiftResult::kNotTried;
+  // The surface test's verdict (texture_rejection.h) when the edge-point
+  // lifting reached it: why a kTexture segment was refused, what a lifted
+  // one is (crease or occluding contour).
+  std::optional<LineSurfaceType> edge_surface;
   // When lifted (by edge points or planes): the 2D segment as clipped to
   // its support and its 3D endpoints, camera frame.
   LineSegment2D lifted2D;

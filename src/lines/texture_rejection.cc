@@ -75,6 +75,22 @@ bool TextureRejectionOptions::Check() const {
   return true;
 }
 
+const char* LineSurfaceTypeName(const LineSurfaceType type) {
+  switch (type) {
+    case LineSurfaceType::kCrease:
+      return "crease";
+    case LineSurfaceType::kOcclusion:
+      return "occlusion";
+    case LineSurfaceType::kSilhouette:
+      return "silhouette";
+    case LineSurfaceType::kTexture:
+      return "texture";
+    case LineSurfaceType::kUnknown:
+      return "unknown";
+  }
+  return "unknown";
+}
+
 bool IsKeptSurfaceType(const LineSurfaceType type,
                        const TextureRejectionOptions& options) {
   switch (type) {

@@ -101,6 +101,9 @@ enum class LineSurfaceType {
   kUnknown,     // too few points on both sides to tell
 };
 
+// A short name of the type ("crease", "occlusion", ...).
+const char* LineSurfaceTypeName(LineSurfaceType type);
+
 // Whether lines of this type are kept by the texture test.
 bool IsKeptSurfaceType(LineSurfaceType type,
                        const TextureRejectionOptions& options);

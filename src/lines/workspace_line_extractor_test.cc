@@ -96,6 +96,15 @@ TEST_F(KittiWorkspaceTest, ThreeFramesGiveSaneSegments) {
       EXPECT_NE(edge_result, "unknown");
       // Plane lifting is off by default: never tried.
       EXPECT_EQ(plane_result, "not_tried");
+      // The surface test's verdict where it ran: an edge when lifted.
+      const bool tested = edge_result == "lifted" || edge_result == "texture";
+      ASSERT_EQ(segment.contains("edge_surface"), tested);
+      if (edge_result == "lifted") {
+        const std::string surface = segment["edge_surface"];
+        EXPECT_TRUE(surface == "crease" || surface == "occlusion") << surface;
+      } else if (tested) {
+        EXPECT_NE(segment["edge_surface"], "crease");
+      }
       if (edge_result == "lifted") {
         ++num_lifted;
         ASSERT_TRUE(segment.contains("start3D_in_cam"));
