@@ -98,7 +98,7 @@ enum class LineSurfaceType {
   kOcclusion,   // a planar face on one side only (crease, other face hidden)
   kSilhouette,  // a curved or thin surface on one side only
   kTexture,     // one face on both sides
-  kUnknown,     // too few points on both sides to tell
+  kUnknown,     // too few points, or one face and no ray past the other
 };
 
 // A short name of the type ("crease", "occlusion", ...).
