@@ -5,9 +5,10 @@
 // descriptor per resulting segment.
 #pragma once
 
-#include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
+
+#include <opencv2/core.hpp>
 
 #include "colmap_ext/scene/camera.h"
 #include "colmap_ext/scene/rigid3.h"

@@ -1,12 +1,12 @@
 #include "src/sfm/lidar_mapper.h"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <unordered_map>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/database/line_tracks_table.h"

@@ -70,8 +70,7 @@ void RebuildStructureAtPoses(const ColmapRunner& colmap,
       }
     }
   }
-  model->lines3D.clear();
-  SetReconstructionLines(kept, model);
+  SetReconstructionLines(kept, model);  // Replaces the lines.
   LOG(INFO) << "lidar_mapper: structure rebuilt at the kept poses: "
             << model->points3D.size() << " points, " << kept.size()
             << " line tracks";
