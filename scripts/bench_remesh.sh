@@ -4,13 +4,13 @@
 # to evaluate of run 1 of each cell with the given binary and options, on a
 # copy of the workspace (hard links; every stage writes new files and
 # renames, so the links are never written through), without the LIDAR-only
-# baseline, and prints per cell the mesh figures (and, from patch_match on,
-# the depth maps') of the variant beside the run's own and its mesh without
-# line samples (matrix/nolines_eval). The stages before --from are not
-# re-run: the variant works on the same poses and lines.
+# baseline, and prints per cell the mesh figures (and, from dense or
+# patch_match on, the depth maps') of the variant beside the run's own and
+# its mesh without line samples (matrix/nolines_eval). The stages before
+# --from are not re-run: the variant works on the same poses and lines.
 #
 # Usage: bash scripts/bench_remesh.sh --work DIR --name NAME [--cells a,b]
-#          [--kitti DIR] [--from patch_match|fusion|mesh]
+#          [--kitti DIR] [--from dense|patch_match|fusion|mesh]
 #          [-- automatic_reconstructor options...]
 #   work   the matrix's work folder (--work of bench_matrix.sh)
 #   name   the variant's folder under each cell (DIR/CELL/remesh/NAME)
@@ -34,8 +34,8 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 case "${FROM}" in
-  patch_match|fusion|mesh) ;;
-  *) echo "${TOOL}: --from must be patch_match, fusion or mesh" >&2; exit 2 ;;
+  dense|patch_match|fusion|mesh) ;;
+  *) echo "${TOOL}: --from must be dense, patch_match, fusion or mesh" >&2; exit 2 ;;
 esac
 variant_parse_args "${args[@]}"
 if [[ -z "${CELLS}" ]]; then
@@ -59,6 +59,11 @@ for cell in "${SELECTED[@]}"; do
   if [[ "${FROM}" != mesh ]]; then
     rm -rf "${out}/ws/dense/stereo/fusion_masks"
     rm -f "${out}"/ws/dense/fused.ply{,.vis} "${out}/ws/pipeline/fusion.done"
+  fi
+  if [[ "${FROM}" == dense ]]; then
+    # The whole dense workspace (undistorted images, LIDAR fusion) again.
+    rm -rf "${out}/ws/dense"
+    rm -f "${out}"/ws/pipeline/{dense,patch_match}.done
   fi
   if [[ "${FROM}" == patch_match ]]; then
     rm -f "${out}"/ws/dense/stereo/{depth,normal}_maps/*.bin

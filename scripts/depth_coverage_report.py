@@ -19,10 +19,16 @@ With --by_error, where the covered pixels more than 5 cm off along the ray
 lie: at a depth edge of the truth (its depths over 7 x 7 pixels spanning
 more than 5 %), at grazing incidence (the ray within 14 deg of the true
 surface), elsewhere; by depth; and how many carry the true depth (within 5
-cm) of a pixel at most 1 or 2 pixels away (a boundary placed off).
+cm) of a pixel at most 1 or 2 pixels away (a boundary placed off). With
+--lidar, per depth range, the share of the frame's own LIDAR points (its
+scan, placed with the true pose and calibration) whose depth is within 5 cm
+of the truth at their sub-pixel projection (bilinear; skipped where the 2 x 2
+truth pixels span more than 5 % of depth), beside the share of our covered
+pixels within 5 cm: the sensor's own accuracy along the camera's ray, which
+range noise seen at an angle amplifies.
 
 Usage: /usr/bin/python3 scripts/depth_coverage_report.py --workspace WS
-         --dataset DATASET [--by_depth] [--by_texture] [--by_error]
+         --dataset DATASET [--by_depth] [--by_texture] [--by_error] [--lidar]
   WS       the pipeline's workspace (WS/dense/stereo/depth_maps)
   DATASET  the synthetic recording (calibration.yaml, poses_gt.txt,
            ground_truth/depth_maps; colmap-lidar synthesize)
@@ -48,6 +54,7 @@ def main():
     parser.add_argument('--by_depth', action='store_true')
     parser.add_argument('--by_texture', action='store_true')
     parser.add_argument('--by_error', action='store_true')
+    parser.add_argument('--lidar', action='store_true')
     args = parser.parse_args()
     calib_path = os.path.join(args.dataset, 'calibration.yaml')
     if 'vertical_fov_deg' not in open(calib_path).read():
@@ -75,6 +82,7 @@ def main():
     texture_bins = [0.0, 0.005, 0.02, np.inf]
     by_texture = np.zeros((2, len(texture_bins) - 1, 2))
     errors = ErrorSplit((cols - cx) / fx, (rows - cy) / fy)
+    lidar_split = LidarAlongRay(calib, lidar_from_cam)
     for name in names:
         depth = truth[name]
         valid = depth > 0
@@ -119,6 +127,9 @@ def main():
                                            (selected & ours).sum()]
         if args.by_error:
             errors.add(depth, read_mat(os.path.join(maps_dir, f'{name}.png.geometric.bin')))
+        if args.lidar:
+            lidar_split.add(depth, read_mat(os.path.join(maps_dir, f'{name}.png.geometric.bin')),
+                            os.path.join(args.dataset, 'lidar', f'{name}.ply'))
         if args.by_texture:
             texture = local_grey_stddev(
                 os.path.join(args.dataset, 'images', f'{name}.png'))[valid]
@@ -161,6 +172,9 @@ def main():
     if args.by_error:
         print()
         errors.report()
+    if args.lidar:
+        print()
+        lidar_split.report()
 
 
 class ErrorSplit:
@@ -224,6 +238,54 @@ class ErrorSplit:
             if n:
                 print(f'| {self.bins[b]:g}-{self.bins[b + 1]:g} | {100 * n / covered:.1f} | '
                       f"{100 * c[f'off{b}'] / n:.1f} |")
+
+
+class LidarAlongRay:
+    """Per depth range: the frame's own LIDAR points within 5 cm of the
+    truth along the camera's ray, and our covered pixels within 5 cm."""
+    bins = [0, 5, 10, 20, np.inf]
+
+    def __init__(self, calib, lidar_from_cam):
+        self.K = calib['K']
+        self.width, self.height = int(calib['width']), int(calib['height'])
+        self.cam_from_lidar = np.linalg.inv(lidar_from_cam)
+        self.counts = np.zeros((len(self.bins) - 1, 4))
+
+    def add(self, truth, ours, scan_path):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from lidar_map_accuracy import read_ply_xyz  # noqa: E402
+        fx, fy, cx, cy = self.K
+        points = read_ply_xyz(scan_path) @ self.cam_from_lidar[:3, :3].T + self.cam_from_lidar[:3, 3]
+        points = points[points[:, 2] > 0.1]
+        x = points[:, 0] / points[:, 2] * fx + cx
+        y = points[:, 1] / points[:, 2] * fy + cy
+        col, row = np.floor(x).astype(int), np.floor(y).astype(int)
+        inside = (col >= 0) & (col < self.width - 1) & (row >= 0) & (row < self.height - 1)
+        x, y, col, row, z = x[inside], y[inside], col[inside], row[inside], points[inside, 2]
+        corners = np.stack([truth[row, col], truth[row, col + 1],
+                            truth[row + 1, col], truth[row + 1, col + 1]])
+        a, b = x - col, y - row
+        sampled = ((1 - b) * ((1 - a) * corners[0] + a * corners[1]) +
+                   b * ((1 - a) * corners[2] + a * corners[3]))
+        # Visible (not behind the true surface) and off any depth edge.
+        usable = ((corners.min(0) > 0) & (corners.max(0) < 1.05 * corners.min(0)) &
+                  (np.abs(z - sampled) < 0.5))
+        covered = (truth > 0) & (ours > 0)
+        for k in range(len(self.bins) - 1):
+            in_bin = usable & (sampled >= self.bins[k]) & (sampled < self.bins[k + 1])
+            pixels = covered & (truth >= self.bins[k]) & (truth < self.bins[k + 1])
+            self.counts[k] += [in_bin.sum(), (in_bin & (np.abs(z - sampled) <= 0.05)).sum(),
+                               pixels.sum(), (pixels & (np.abs(ours - truth) <= 0.05)).sum()]
+
+    def report(self):
+        print('| depth, m | LIDAR points | LIDAR within 5 cm along the ray % | '
+              'our covered pixels within 5 cm % |')
+        print('|---|---|---|---|')
+        for k in range(len(self.bins) - 1):
+            n, within, pixels, ours = self.counts[k]
+            if n or pixels:
+                print(f'| {self.bins[k]:g}-{self.bins[k + 1]:g} | {int(n)} | '
+                      f'{100 * within / max(n, 1):.1f} | {100 * ours / max(pixels, 1):.1f} |')
 
 
 def local_grey_stddev(path, window=9):

@@ -33,6 +33,11 @@ void AddLidarFusionOptions(LidarFusionOptions* o, OptionManager* options) {
                      "distance, >= 1.");
   options->AddOption(s + "normal_min_neighbors", &o->normal_min_neighbors,
                      "Voxels needed for a normal, >= 3.");
+  options->AddOption(s + "normal_min_eigenvalue_ratio",
+                     &o->normal_min_eigenvalue_ratio,
+                     "A normal needs the neighbourhood's second covariance "
+                     "eigenvalue at least this share of the largest (not a "
+                     "line of centroids), [0, 1).");
   options->AddOption(s + "max_num_visible_images",
                      &o->max_num_visible_images,
                      "Frames listed per voxel in lidar_fused.ply.vis, >= 1.");
@@ -130,6 +135,11 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      &o->occlusion_relative_tolerance,
                      "A LIDAR sample deeper than (1 + this) x its "
                      "neighbourhood mean is dropped, >= 0.");
+  options->AddOption(s + "lidar_samples_at_pixel_centres",
+                     &o->lidar_samples_at_pixel_centres,
+                     "LIDAR samples carried along their plane to their "
+                     "pixel's centre; a pixel takes the median of its front "
+                     "surface's samples, not the nearest (not in the paper).");
   options->AddOption(s + "interpolation_max_depth_ratio",
                      &o->interpolation_max_depth_ratio,
                      "Delaunay triangles with a larger depth ratio use the "

@@ -111,6 +111,10 @@ bool LidarFusionOptions::Check() const {
     LOG(ERROR) << "LidarFusion.normal_radius_voxels must be >= 1";
     return false;
   }
+  if (!(normal_min_eigenvalue_ratio >= 0 && normal_min_eigenvalue_ratio < 1)) {
+    LOG(ERROR) << "LidarFusion.normal_min_eigenvalue_ratio must be in [0, 1)";
+    return false;
+  }
   if (normal_min_neighbors < 3) {
     LOG(ERROR) << "LidarFusion.normal_min_neighbors must be >= 3";
     return false;
@@ -227,6 +231,11 @@ FusedLidarCloud FuseLidarScans(const std::vector<LidarFusionInput>& inputs,
     mean /= num;
     const Eigen::Matrix3d covariance = second / num - mean * mean.transpose();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+    // Eigenvalues in increasing order: a line of centroids has no plane.
+    if (!(solver.eigenvalues()(1) >=
+          options.normal_min_eigenvalue_ratio * solver.eigenvalues()(2))) {
+      continue;
+    }
     Eigen::Vector3f normal = solver.eigenvectors().col(0).cast<float>();
     if (normal.dot(voxels.at(keys[i]).towards_scanners) < 0) {
       normal = -normal;

@@ -55,6 +55,14 @@ struct LidarFusionOptions {
   int normal_radius_voxels = 2;
   // Minimum number of voxel centroids for a plane fit, >= 3.
   int normal_min_neighbors = 5;
+  // The normal stays unknown (zero) unless the neighbourhood spreads in two
+  // directions: its second covariance eigenvalue at least this share of the
+  // largest, [0, 1). Where one ring of a sparse scanner crosses the
+  // neighbourhood alone (a line of centroids), the smallest eigenvector is
+  // any direction across the line: 6 % of the corridor VLP-16's voxels gave
+  // such an arbitrary normal (a wall's normal pointing up), which the depth
+  // initialisation then trusted. 0: every fit is kept.
+  double normal_min_eigenvalue_ratio = 0.1;
   // Frames kept per voxel in the .vis file (most points first), >= 1.
   int max_num_visible_images = 16;
   // Voxels that other scans see through (moving objects) are dropped, see

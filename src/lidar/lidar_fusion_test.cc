@@ -75,6 +75,43 @@ TEST(LidarFusion, CountsNormalsAndVisibilityOnAPlane) {
             0u);
 }
 
+// One ring of a sparse scanner crossing a wall: a line of voxel centroids,
+// whose plane (and normal) is undetermined; the normal stays unknown unless
+// the test is off. A second ring 6 cm above spans the plane again.
+TEST(LidarFusion, LineOfCentroidsHasNoNormal) {
+  LidarScan ring;
+  for (int i = 0; i < 40; ++i) {  // The wall z = 2.05, along x at y = 0.01.
+    ring.points.emplace_back(-1.0f + 0.05f * i + 0.025f, 0.01f, 2.05f);
+  }
+  LidarFusionOptions options;
+  options.voxel_size_m = 0.05;
+  const Rigid3d world_from_lidar;
+  FusedLidarCloud cloud =
+      FuseLidarScans({{0, &ring, world_from_lidar}}, options);
+  ASSERT_EQ(cloud.size(), 40u);
+  for (const Eigen::Vector3f& normal : cloud.normals) {
+    EXPECT_EQ(normal, Eigen::Vector3f::Zero());
+  }
+  options.normal_min_eigenvalue_ratio = 0.0;
+  cloud = FuseLidarScans({{0, &ring, world_from_lidar}}, options);
+  size_t num_known = 0;
+  for (const Eigen::Vector3f& normal : cloud.normals) {
+    num_known += normal.squaredNorm() > 0.5f ? 1 : 0;
+  }
+  EXPECT_GT(num_known, 30u);  // Some arbitrary direction across the line.
+
+  options.normal_min_eigenvalue_ratio = 0.1;
+  LidarScan two_rings = ring;
+  for (const Eigen::Vector3f& point : ring.points) {
+    two_rings.points.push_back(point + Eigen::Vector3f(0, 0.06f, 0));
+  }
+  cloud = FuseLidarScans({{0, &two_rings, world_from_lidar}}, options);
+  ASSERT_EQ(cloud.size(), 80u);
+  for (const Eigen::Vector3f& normal : cloud.normals) {
+    EXPECT_NEAR(std::abs(normal.z()), 1.0f, 1e-3);
+  }
+}
+
 TEST(LidarFusion, CapsVisibilityAndSkipsRanges) {
   std::mt19937 rng(4);
   std::vector<LidarScan> scans;

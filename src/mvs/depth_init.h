@@ -8,8 +8,12 @@
 // local average."
 //
 // LIDAR voxels are projected into the view with a per-pixel z-buffer (the
-// nearest wins, Li et al.'s pixel-scale rule); then a sample is kept only if
-// its depth is at most (1 + occlusion_relative_tolerance) times the mean
+// nearest wins, Li et al.'s pixel-scale rule; with
+// lidar_samples_at_pixel_centres each voxel's depth is first carried along
+// its plane to its pixel's centre, and the pixel takes the median of its
+// front surface's depths: within occlusion_relative_tolerance of the
+// nearest, up to the first gap of 1 % of depth); then a sample is kept only
+// if its depth is at most (1 + occlusion_relative_tolerance) times the mean
 // depth of the z-buffer samples within occlusion_window_radius pixels. A
 // LIDAR point seen through a gap of a foreground surface, or from the
 // scanner's different viewpoint behind an edge, lands among nearer

@@ -1,6 +1,10 @@
 #include "src/mvs/depth_init.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -275,6 +279,63 @@ TEST(DepthInit, GuessesAcrossADepthEdgeStayOutOfThePrior) {
     EXPECT_EQ(held.prior_depth[i], map.depth[i]);
     EXPECT_EQ(init.prior_depth[i], guessed[i] ? 0.0f : map.depth[i]);
   }
+}
+
+// A wall seen at grazing incidence 15-30 m away (its depth changing by 19
+// to 75 cm per pixel), sampled by 20 noisy LIDAR points per pixel: the
+// samples carried to their pixel's centre along the wall's plane, the
+// median of the front surface, stay within the noise of the true depth;
+// the nearest sample's own depth does not (rounding to the pixel, and the
+// nearest of several noisy samples lies in front).
+TEST(DepthInit, SamplesAtPixelCentresFollowAGrazingWall) {
+  const int width = 320, height = 240;
+  const Eigen::Matrix3d K = TestCalibration(width, height);  // f = 200 px.
+  const MvsView view = MakeMvsView("v", K, Rigid3d(), width, height,
+                                   std::vector<float>(width * height, 0.5f));
+  // The wall x = 6 + 0.1 z (camera frame) with 4 cm of range noise along
+  // the points' rays (the scanner at the camera).
+  const Eigen::Vector3f normal = Eigen::Vector3f(1.0f, 0, -0.1f).normalized();
+  auto wall_depth = [](const Eigen::Vector3d& ray) {  // z = 1 rays.
+    return 6.0 / (ray.x() - 0.1);
+  };
+  uint64_t state = 12345;
+  auto uniform = [&state]() {  // [0, 1): a fixed linear congruential stream.
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  std::vector<Eigen::Vector3f> points, normals;
+  const int min_col = 215, max_col = 265;
+  for (int k = 0; k < 20 * (max_col - min_col) * height; ++k) {
+    const double col = min_col + (max_col - min_col) * uniform();
+    const double row = height * uniform() - 0.5;
+    const Eigen::Vector3d ray = K.inverse() * Eigen::Vector3d(col, row, 1);
+    const double depth = wall_depth(ray);
+    if (depth < 15.0 || depth > 30.0) continue;
+    const Eigen::Vector3d point = depth * ray;
+    const double noise = 0.04 * std::sqrt(3.0) * (2.0 * uniform() - 1.0);
+    points.push_back((point + noise * point.normalized()).cast<float>());
+    normals.push_back(normal);
+  }
+  LidarPatchMatchOptions options;
+  auto share_within_5cm = [&](bool at_centres) {
+    options.lidar_samples_at_pixel_centres = at_centres;
+    const std::vector<DepthSample> samples =
+        ProjectLidarSamples(view, points, normals, options);
+    EXPECT_GT(samples.size(), 4000u);
+    size_t within = 0;
+    for (const DepthSample& sample : samples) {
+      const double truth =
+          wall_depth(K.inverse() * Eigen::Vector3d(sample.col, sample.row, 1));
+      within += std::abs(sample.depth - truth) <= 0.05 ? 1 : 0;
+    }
+    return static_cast<double>(within) / std::max<size_t>(samples.size(), 1);
+  };
+  const double nearest = share_within_5cm(false);
+  const double centres = share_within_5cm(true);
+  std::cout << "within 5 cm: nearest " << nearest << ", at centres " << centres
+            << std::endl;
+  EXPECT_LT(nearest, 0.3);
+  EXPECT_GT(centres, 0.95);
 }
 
 }  // namespace

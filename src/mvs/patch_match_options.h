@@ -90,6 +90,19 @@ struct LidarPatchMatchOptions {
   // occlusion_window_radius pixels (the paper's neighbourhood check).
   int occlusion_window_radius = 5;
   double occlusion_relative_tolerance = 0.05;
+  // A LIDAR voxel's depth is carried along its plane (the fused cloud's
+  // normal) from its sub-pixel projection to its pixel's centre, and a
+  // pixel hit by several voxels takes the median depth of its front surface
+  // instead of the nearest (the front surface: the voxels within
+  // occlusion_relative_tolerance of the nearest, up to the first gap of 1 %
+  // of depth between consecutive ones). Off: the nearest voxel's own depth
+  // (Li et al.'s pixel-scale z-buffer). Far surfaces seen at grazing
+  // incidence change depth by centimetres per pixel, and the nearest of
+  // several noisy samples is biased towards the camera: on the bent street,
+  // 58 % of the nearest samples at 10-20 m were within 5 cm of the true
+  // depth, 77 % of the medians at the centres (5 % band, no gap test). Not
+  // in the paper.
+  bool lidar_samples_at_pixel_centres = true;
   // Delaunay interpolation: a triangle whose vertex depths differ by more
   // than this ratio takes each pixel from its nearest vertex's plane
   // instead (no smearing across depth edges), > 1.
