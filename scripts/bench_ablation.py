@@ -81,6 +81,8 @@ EXTENSIONS = [
     ("init_extensions", "dense",
      ["LidarPatchMatch.init_extrapolate_planes",
       "LidarPatchMatch.interpolation_max_edge_factor"]),
+    ("samples_at_pixel_centres", "dense",
+     ["LidarPatchMatch.lidar_samples_at_pixel_centres"]),
 ]
 # The paper's own line term, removed from both presets.
 PAPER_LINE_TERM = ("no_paper_line_term", "sfm",
