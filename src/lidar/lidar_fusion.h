@@ -59,7 +59,7 @@ struct LidarFusionOptions {
   // directions: its second covariance eigenvalue at least this share of the
   // largest, [0, 1). Where one ring of a sparse scanner crosses the
   // neighbourhood alone (a line of centroids), the smallest eigenvector is
-  // any direction across the line: 6 % of the corridor VLP-16's voxels gave
+  // any direction across the line: 8 % of the corridor VLP-16's voxels gave
   // such an arbitrary normal (a wall's normal pointing up), which the depth
   // initialisation then trusted. 0: every fit is kept.
   double normal_min_eigenvalue_ratio = 0.1;
