@@ -23,9 +23,11 @@ cm) of a pixel at most 1 or 2 pixels away (a boundary placed off). With
 --lidar, per depth range, the share of the frame's own LIDAR points (its
 scan, placed with the true pose and calibration) whose depth is within 5 cm
 of the truth at their sub-pixel projection (bilinear; skipped where the 2 x 2
-truth pixels span more than 5 % of depth), beside the share of our covered
-pixels within 5 cm: the sensor's own accuracy along the camera's ray, which
-range noise seen at an angle amplifies.
+truth pixels span more than 5 % of depth), the same for the other frames'
+scans placed with the true poses (what the fused cloud holds, without its
+pose error), beside the share of our covered pixels within 5 cm: the
+sensor's own accuracy along the camera's ray, and what range noise along
+another scanner's ray becomes when the camera sees the surface at an angle.
 
 Usage: /usr/bin/python3 scripts/depth_coverage_report.py --workspace WS
          --dataset DATASET [--by_depth] [--by_texture] [--by_error] [--lidar]
@@ -82,7 +84,7 @@ def main():
     texture_bins = [0.0, 0.005, 0.02, np.inf]
     by_texture = np.zeros((2, len(texture_bins) - 1, 2))
     errors = ErrorSplit((cols - cx) / fx, (rows - cy) / fy)
-    lidar_split = LidarAlongRay(calib, lidar_from_cam)
+    lidar_split = LidarAlongRay(calib, lidar_from_cam, args.dataset) if args.lidar else None
     for name in names:
         depth = truth[name]
         valid = depth > 0
@@ -129,7 +131,7 @@ def main():
             errors.add(depth, read_mat(os.path.join(maps_dir, f'{name}.png.geometric.bin')))
         if args.lidar:
             lidar_split.add(depth, read_mat(os.path.join(maps_dir, f'{name}.png.geometric.bin')),
-                            os.path.join(args.dataset, 'lidar', f'{name}.ply'))
+                            name, poses)
         if args.by_texture:
             texture = local_grey_stddev(
                 os.path.join(args.dataset, 'images', f'{name}.png'))[valid]
@@ -241,21 +243,33 @@ class ErrorSplit:
 
 
 class LidarAlongRay:
-    """Per depth range: the frame's own LIDAR points within 5 cm of the
-    truth along the camera's ray, and our covered pixels within 5 cm."""
+    """Per depth range: the LIDAR points within 5 cm of the truth along the
+    camera's ray, the frame's own scan's and the other frames' scans' (all
+    placed with the true poses), and our covered pixels within 5 cm."""
     bins = [0, 5, 10, 20, np.inf]
 
-    def __init__(self, calib, lidar_from_cam):
+    def __init__(self, calib, lidar_from_cam, dataset):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from lidar_map_accuracy import read_ply_xyz  # noqa: E402
+        self.read_ply_xyz = read_ply_xyz
+        self.dataset = dataset
         self.K = calib['K']
         self.width, self.height = int(calib['width']), int(calib['height'])
         self.cam_from_lidar = np.linalg.inv(lidar_from_cam)
-        self.counts = np.zeros((len(self.bins) - 1, 4))
+        self.scans_in_cam = {}
+        # own n, own within, other n, other within, pixels, pixels within.
+        self.counts = np.zeros((len(self.bins) - 1, 6))
 
-    def add(self, truth, ours, scan_path):
-        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-        from lidar_map_accuracy import read_ply_xyz  # noqa: E402
+    def scan_in_cam(self, name):
+        if name not in self.scans_in_cam:
+            points = self.read_ply_xyz(os.path.join(self.dataset, 'lidar', f'{name}.ply'))
+            self.scans_in_cam[name] = (points @ self.cam_from_lidar[:3, :3].T +
+                                       self.cam_from_lidar[:3, 3])
+        return self.scans_in_cam[name]
+
+    def along_ray(self, truth, points):
+        """Per depth bin, the usable points and those within 5 cm."""
         fx, fy, cx, cy = self.K
-        points = read_ply_xyz(scan_path) @ self.cam_from_lidar[:3, :3].T + self.cam_from_lidar[:3, 3]
         points = points[points[:, 2] > 0.1]
         x = points[:, 0] / points[:, 2] * fx + cx
         y = points[:, 1] / points[:, 2] * fy + cy
@@ -270,22 +284,37 @@ class LidarAlongRay:
         # Visible (not behind the true surface) and off any depth edge.
         usable = ((corners.min(0) > 0) & (corners.max(0) < 1.05 * corners.min(0)) &
                   (np.abs(z - sampled) < 0.5))
-        covered = (truth > 0) & (ours > 0)
+        counts = np.zeros((len(self.bins) - 1, 2))
         for k in range(len(self.bins) - 1):
             in_bin = usable & (sampled >= self.bins[k]) & (sampled < self.bins[k + 1])
+            counts[k] = [in_bin.sum(), (in_bin & (np.abs(z - sampled) <= 0.05)).sum()]
+        return counts
+
+    def add(self, truth, ours, name, poses):
+        self.counts[:, 0:2] += self.along_ray(truth, self.scan_in_cam(name))
+        rotation, centre = poses[name]  # world_from_cam
+        for other in poses:
+            if other == name:
+                continue
+            r, c = poses[other]
+            in_world = self.scan_in_cam(other) @ r.T + c
+            self.counts[:, 2:4] += self.along_ray(truth, (in_world - centre) @ rotation)
+        covered = (truth > 0) & (ours > 0)
+        for k in range(len(self.bins) - 1):
             pixels = covered & (truth >= self.bins[k]) & (truth < self.bins[k + 1])
-            self.counts[k] += [in_bin.sum(), (in_bin & (np.abs(z - sampled) <= 0.05)).sum(),
-                               pixels.sum(), (pixels & (np.abs(ours - truth) <= 0.05)).sum()]
+            self.counts[k, 4:6] += [pixels.sum(), (pixels & (np.abs(ours - truth) <= 0.05)).sum()]
 
     def report(self):
-        print('| depth, m | LIDAR points | LIDAR within 5 cm along the ray % | '
-              'our covered pixels within 5 cm % |')
-        print('|---|---|---|---|')
+        print('| depth, m | own scan: points | within 5 cm along the ray % | other frames\' scans: '
+              'points | within 5 cm % | our covered pixels within 5 cm % |')
+        print('|---|---|---|---|---|---|')
         for k in range(len(self.bins) - 1):
-            n, within, pixels, ours = self.counts[k]
-            if n or pixels:
-                print(f'| {self.bins[k]:g}-{self.bins[k + 1]:g} | {int(n)} | '
-                      f'{100 * within / max(n, 1):.1f} | {100 * ours / max(pixels, 1):.1f} |')
+            own, own_within, other, other_within, pixels, ours = self.counts[k]
+            if own or other or pixels:
+                print(f'| {self.bins[k]:g}-{self.bins[k + 1]:g} | {int(own)} | '
+                      f'{100 * own_within / max(own, 1):.1f} | {int(other)} | '
+                      f'{100 * other_within / max(other, 1):.1f} | '
+                      f'{100 * ours / max(pixels, 1):.1f} |')
 
 
 def local_grey_stddev(path, window=9):
