@@ -36,7 +36,7 @@ Usage: /usr/bin/python3 scripts/depth_coverage_report.py --workspace WS
            ground_truth/depth_maps; colmap-lidar synthesize)
 Cameras without distortion only (PINHOLE, SIMPLE_PINHOLE). Needs numpy
 (Debian: python3-numpy); --by_texture also scipy and PIL (python3-scipy,
-python3-pil), --by_error scipy.
+python3-pil), --by_error and --lidar scipy.
 """
 
 import argparse
@@ -249,7 +249,8 @@ class LidarAlongRay:
     bins = [0, 5, 10, 20, np.inf]
 
     def __init__(self, calib, lidar_from_cam, dataset):
-        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        # Only --lidar needs it (it imports scipy); the scripts' folder is on
+        # the path already.
         from lidar_map_accuracy import read_ply_xyz  # noqa: E402
         self.read_ply_xyz = read_ply_xyz
         self.dataset = dataset
