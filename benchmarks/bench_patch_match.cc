@@ -185,8 +185,8 @@ int main(int argc, char** argv) {
       // The depth range comes from the LIDAR for both (no features here).
       LidarPatchMatchOptions range_options = options;
       range_options.init = "lidar";
-      ReferenceInit reference =
-          InitializeReference(views[ref], {}, &lidar, range_options);
+      ReferenceInit reference = InitializeReference(
+          views[ref], {}, &lidar, static_cast<int>(ref), range_options);
       if (init == "random") reference.state = PlaneMap(views[ref].width, views[ref].height);
       const PatchCostComputer cost(views[ref], srcs, options);
       PatchMatchProblem problem;

@@ -140,6 +140,12 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      "LIDAR samples carried along their plane to their "
                      "pixel's centre; a pixel takes the median of its front "
                      "surface's samples, not the nearest (not in the paper).");
+  options->AddOption(s + "lidar_own_scan_min_incidence_deg",
+                     &o->lidar_own_scan_min_incidence_deg,
+                     "Where the view sees a surface at more than this angle "
+                     "from its normal, the plane of its own LIDAR scan "
+                     "replaces the fused cloud's; degrees, 90: off (off by "
+                     "default: it loses on KITTI; not in the paper).");
   options->AddOption(s + "interpolation_max_depth_ratio",
                      &o->interpolation_max_depth_ratio,
                      "Delaunay triangles with a larger depth ratio use the "

@@ -48,6 +48,9 @@ struct DepthInitStats {
   size_t num_lidar_zbuffer = 0;   // Nearest in their pixel.
   size_t num_lidar_occluded = 0;  // Dropped by the neighbourhood check.
   size_t num_features = 0;
+  // Pixels whose initial plane the view's own scan decided
+  // (lidar_own_scan_min_incidence_deg; set by InitializeReference).
+  size_t num_own_scan_pixels = 0;
 };
 
 // LIDAR points and normals in the world (normals may be zero: "unknown").

@@ -271,9 +271,9 @@ TEST(DepthInit, GuessesAcrossADepthEdgeStayOutOfThePrior) {
     EXPECT_EQ(guessed[map.Index(sample.row, sample.col)], 0);
   }
 
-  const ReferenceInit init = InitializeReference(view, {}, &cloud, options);
+  const ReferenceInit init = InitializeReference(view, {}, &cloud, -1, options);
   options.lidar_prior_across_depth_edges = true;
-  const ReferenceInit held = InitializeReference(view, {}, &cloud, options);
+  const ReferenceInit held = InitializeReference(view, {}, &cloud, -1, options);
   for (size_t i = 0; i < guessed.size(); ++i) {
     EXPECT_EQ(init.state.depth[i], map.depth[i]);  // Same starting planes.
     EXPECT_EQ(held.prior_depth[i], map.depth[i]);
@@ -288,21 +288,18 @@ TEST(DepthInit, GuessesAcrossADepthEdgeStayOutOfThePrior) {
 // the nearest sample's own depth does not (rounding to the pixel, and the
 // nearest of several noisy samples lies in front).
 TEST(DepthInit, SamplesAtPixelCentresFollowAGrazingWall) {
-  const int width = 320, height = 240;
-  const Eigen::Matrix3d K = TestCalibration(width, height);  // f = 200 px.
-  const MvsView view = MakeMvsView("v", K, Rigid3d(), width, height,
-                                   std::vector<float>(width * height, 0.5f));
-  // The wall x = 6 + 0.1 z (camera frame) with 4 cm of range noise along
-  // the points' rays (the scanner at the camera).
-  const Eigen::Vector3f normal = Eigen::Vector3f(1.0f, 0, -0.1f).normalized();
-  auto wall_depth = [](const Eigen::Vector3d& ray) {  // z = 1 rays.
-    return 6.0 / (ray.x() - 0.1);
+  // The wall with 4 cm of range noise along the points' rays (the scanner at
+  // the camera).
+  const GrazingWall wall = MakeGrazingWall();
+  const int height = wall.view.height;
+  const Eigen::Matrix3d& K = wall.K;
+  const MvsView& view = wall.view;
+  const Eigen::Vector3f& normal = wall.normal;
+  auto wall_depth = [&wall](const Eigen::Vector3d& ray) {
+    return wall.Depth(ray);
   };
-  uint64_t state = 12345;
-  auto uniform = [&state]() {  // [0, 1): a fixed linear congruential stream.
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    return static_cast<double>(state >> 11) / 9007199254740992.0;
-  };
+  UniformStream stream(12345);
+  auto uniform = [&stream]() { return stream.Next(); };
   std::vector<Eigen::Vector3f> points, normals;
   const int min_col = 215, max_col = 265;
   for (int k = 0; k < 20 * (max_col - min_col) * height; ++k) {

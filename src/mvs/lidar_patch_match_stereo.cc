@@ -18,6 +18,7 @@
 #include "src/mvs/interpolation.h"
 #include "src/mvs/map_filter.h"
 #include "src/mvs/ncc_cost.h"
+#include "src/mvs/own_scan.h"
 #include "src/mvs/patch_match.h"
 #include "src/mvs/source_views.h"
 
@@ -194,7 +195,8 @@ std::vector<float> DensePriorDepth(const PlaneMap& interpolated) {
 
 ReferenceInit InitializeReference(
     const MvsView& ref, const std::vector<Eigen::Vector3f>& features_in_world,
-    const FusedLidarCloud* lidar, const LidarPatchMatchOptions& options) {
+    const FusedLidarCloud* lidar, int ref_image_idx,
+    const LidarPatchMatchOptions& options) {
   ReferenceInit init;
   std::vector<DepthSample> lidar_samples;
   if (lidar != nullptr) {
@@ -222,6 +224,14 @@ ReferenceInit InitializeReference(
   } else {
     std::vector<uint8_t> across_depth_edge;
     init.state = InterpolateSamples(ref, samples, options, &across_depth_edge);
+    if (lidar != nullptr && options.lidar_own_scan_min_incidence_deg < 90 &&
+        ref_image_idx >= 0) {
+      init.stats.num_own_scan_pixels = PreferOwnScan(
+          ref,
+          OwnScanSamples(ref, *lidar, static_cast<uint32_t>(ref_image_idx),
+                         features_in_world, options),
+          options, &init.state, &across_depth_edge);
+    }
     init.prior_depth = DensePriorDepth(init.state);
     if (!options.lidar_prior_across_depth_edges) {
       for (size_t i = 0; i < across_depth_edge.size(); ++i) {
@@ -305,8 +315,9 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
     const MvsView& ref = cache.View(job.ref_idx);
     std::vector<const MvsView*> srcs;
     for (int s : job.srcs) srcs.push_back(&cache.View(s));
-    ReferenceInit init = InitializeReference(
-        ref, FeaturesOf(model, image), have_lidar ? &lidar : nullptr, options);
+    ReferenceInit init = InitializeReference(ref, FeaturesOf(model, image),
+                                             have_lidar ? &lidar : nullptr,
+                                             job.ref_idx, options);
     size_t num_extrapolated = 0;
     if (!init.prior_depth.empty() && options.init_extrapolate_planes) {
       // After the prior is taken: the extrapolated planes carry none.
@@ -329,10 +340,11 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
               << ": photometric, " << srcs.size() << " sources, "
               << init.stats.num_lidar_zbuffer - init.stats.num_lidar_occluded
               << " LIDAR samples (" << init.stats.num_lidar_occluded
-              << " occluded), " << init.stats.num_features << " features, "
-              << num_extrapolated
-              << " pixels started on an extrapolated plane, "
-              << kept << " valid pixels, " << Seconds(image_start) << " s";
+              << " occluded), " << init.stats.num_own_scan_pixels
+              << " pixels from its own scan, " << init.stats.num_features
+              << " features, " << num_extrapolated
+              << " pixels started on an extrapolated plane, " << kept
+              << " valid pixels, " << Seconds(image_start) << " s";
   }
   // Geometric pass.
   if (options.geom_consistency) {
@@ -399,8 +411,8 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
       std::vector<float> prior_depth;
       if (!options.RandomInit() && (options.lidar_prior_weight > 0 ||
                                     options.filter_lidar_as_view)) {
-        prior_depth = InitializeReference(ref, FeaturesOf(model, image),
-                                          &lidar, options)
+        prior_depth = InitializeReference(ref, FeaturesOf(model, image), &lidar,
+                                          job.ref_idx, options)
                           .prior_depth;
       }
       if (options.lidar_prior_weight > 0) {

@@ -50,11 +50,15 @@ struct ReferenceInit {
 // (occlusion-checked) and features merged and interpolated; with "random",
 // an empty state (PatchMatch randomises it). The depth range spans the 1st
 // to 99th percentile of the feature (and, with "lidar" or without features,
-// LIDAR) depths, widened by 1/1.5 and 1.5. `lidar` may be nullptr. Throws
-// naming the view when no depth is known to set the range.
+// LIDAR) depths, widened by 1/1.5 and 1.5. `lidar` may be nullptr.
+// `ref_image_idx` is the view's position in the model's images (the .vis
+// index) for lidar_own_scan_min_incidence_deg, -1 when unknown (then the
+// own scan has no precedence).
+// Throws naming the view when no depth is known to set the range.
 ReferenceInit InitializeReference(
     const MvsView& ref, const std::vector<Eigen::Vector3f>& features_in_world,
-    const FusedLidarCloud* lidar, const LidarPatchMatchOptions& options);
+    const FusedLidarCloud* lidar, int ref_image_idx,
+    const LidarPatchMatchOptions& options);
 
 // The soft prior of a LIDAR-initialised view: the interpolated depth at
 // every pixel inside the samples' hull (0 elsewhere), so that textureless

@@ -192,6 +192,16 @@ double ShareWithinTolerance(const std::vector<float>& depth,
   return total == 0 ? 0.0 : static_cast<double>(good) / total;
 }
 
+GrazingWall MakeGrazingWall() {
+  const int width = 320, height = 240;
+  GrazingWall wall;
+  wall.K = TestCalibration(width, height);
+  wall.view = MakeMvsView("v", wall.K, Rigid3d(), width, height,
+                          std::vector<float>(width * height, 0.5f));
+  wall.normal = Eigen::Vector3f(1.0f, 0, -0.1f).normalized();
+  return wall;
+}
+
 PlaneMap GroundPlaneMap(const MvsView& view, float height, float max_depth) {
   PlaneMap map(view.width, view.height);
   for (int row = 0; row < view.height; ++row) {

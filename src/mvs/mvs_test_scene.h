@@ -69,6 +69,35 @@ double ShareWithinTolerance(const std::vector<float>& depth,
                             const std::vector<float>& gt_depth,
                             double tolerance);
 
+// A wall seen at grazing incidence: the plane x = 6 + 0.1 z of the frame of
+// an untextured (flat grey) 320 x 240 view at the origin (TestCalibration,
+// f = 200 px), 10 m away at column 300 and 30 m at 220.
+struct GrazingWall {
+  Eigen::Matrix3d K;
+  MvsView view;
+  Eigen::Vector3f normal;  // Unit, camera frame.
+  // The wall's z-depth along `ray` (z = 1).
+  double Depth(const Eigen::Vector3d& ray) const {
+    return 6.0 / (ray.x() - 0.1);
+  }
+};
+GrazingWall MakeGrazingWall();
+
+// A fixed stream of uniform numbers in [0, 1) (a linear congruential
+// generator: the same on every platform, unlike
+// std::uniform_real_distribution).
+class UniformStream {
+ public:
+  explicit UniformStream(uint64_t seed) : state_(seed) {}
+  double Next() {
+    state_ = state_ * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state_ >> 11) / 9007199254740992.0;
+  }
+
+ private:
+  uint64_t state_;
+};
+
 // The exact plane map of a level ground `height` metres below a camera that
 // looks along it (camera rotation identity: y down, z forward): per pixel
 // centre the ground's z-depth and its normal facing the camera (0, -1, 0);

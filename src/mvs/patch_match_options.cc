@@ -48,6 +48,10 @@ bool LidarPatchMatchOptions::Check() const {
   if (occlusion_window_radius < 0) {
     return Fail("occlusion_window_radius must be >= 0");
   }
+  if (!(lidar_own_scan_min_incidence_deg >= 0 &&
+        lidar_own_scan_min_incidence_deg <= 90)) {
+    return Fail("lidar_own_scan_min_incidence_deg must be in [0, 90]");
+  }
   if (!(occlusion_relative_tolerance >= 0)) {
     return Fail("occlusion_relative_tolerance must be >= 0");
   }

@@ -103,6 +103,19 @@ struct LidarPatchMatchOptions {
   // depth, 77 % of the medians at the centres (5 % band, no gap test). Not
   // in the paper.
   bool lidar_samples_at_pixel_centres = true;
+  // Where the view sees a surface at more than this angle from its normal
+  // (grazing), the plane interpolated from the view's own LIDAR scan
+  // replaces that of the fused cloud, degrees in [0, 90]; 90: off. The own
+  // scan carries no pose error and measures along rays close to the
+  // camera's, while the other scans' error across the surface grows by
+  // 1 / cos(angle) along the camera's ray; but its rings are sparse, and
+  // where the surface faces the camera the fused cloud's denser sampling
+  // holds the detail between them (src/mvs/own_scan.h). Off by default: at
+  // 70 deg the synthetic cells' maps gain 0.01 to 2.3 points within 5 cm,
+  // but on KITTI the mesh then holds 77.2 instead of 81.1 % of the in-view
+  // LIDAR within 0.1 m (why is not established; docs/benchmarks/matrix.md).
+  // Not in the paper.
+  double lidar_own_scan_min_incidence_deg = 90.0;
   // Delaunay interpolation: a triangle whose vertex depths differ by more
   // than this ratio takes each pixel from its nearest vertex's plane
   // instead (no smearing across depth edges), > 1.

@@ -41,7 +41,8 @@ std::vector<double> RunFromInit(const Scene& scene, const std::string& init,
   const MvsView& ref = scene.views[0];
   std::vector<const MvsView*> srcs;
   for (size_t i = 1; i < scene.views.size(); ++i) srcs.push_back(&scene.views[i]);
-  ReferenceInit reference = InitializeReference(ref, {}, &scene.lidar, options);
+  ReferenceInit reference =
+      InitializeReference(ref, {}, &scene.lidar, 0, options);
   const PatchCostComputer cost(ref, srcs, options);
   PatchMatchProblem problem;
   problem.cost = &cost;
