@@ -46,7 +46,7 @@ std::vector<DepthSample> OwnScanSamples(
 
 // The own scan's planes where they decide: in `map` (the interpolation of
 // every scan's samples) and `across_depth_edge` (its flags, see
-// InterpolateSamples), each pixel that both the map and the interpolation
+// InterpolateSamples; both not null, of the view's size), each pixel that both the map and the interpolation
 // of `own_samples` alone cover, the latter not across a depth edge and seen
 // at more than options.lidar_own_scan_min_incidence_deg from its normal,
 // takes the own interpolation's plane (and loses its flag). Nothing changes
