@@ -134,6 +134,11 @@ TEST(LidarFusion, CapsVisibilityAndSkipsRanges) {
   EXPECT_EQ(FuseLidarScans(inputs, options).size(), 0u);
   options.voxel_size_m = 0;
   EXPECT_FALSE(options.Check());
+  options.voxel_size_m = 1.0;
+  options.normal_min_eigenvalue_ratio = 1.0;  // [0, 1).
+  EXPECT_FALSE(options.Check());
+  options.normal_min_eigenvalue_ratio = -0.1;
+  EXPECT_FALSE(options.Check());
 }
 
 TEST(LidarFusion, FilesRoundTrip) {

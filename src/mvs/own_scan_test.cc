@@ -21,6 +21,17 @@ TEST(OwnScan, VoxelsNamedInTheVisibility) {
   EXPECT_TRUE(OwnScanVoxels({}, 0).empty());
 }
 
+TEST(OwnScan, AngleOutsideZeroToNinetyIsRefused) {
+  LidarPatchMatchOptions options;
+  EXPECT_TRUE(options.Check());
+  options.lidar_own_scan_min_incidence_deg = 0;
+  EXPECT_TRUE(options.Check());
+  options.lidar_own_scan_min_incidence_deg = 91;
+  EXPECT_FALSE(options.Check());
+  options.lidar_own_scan_min_incidence_deg = -1;
+  EXPECT_FALSE(options.Check());
+}
+
 // Only the voxels that the view's own scan hit become its samples; a
 // feature replaces the sample of its pixel.
 TEST(OwnScan, SamplesOfTheOwnVoxelsOnly) {
