@@ -49,7 +49,9 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
   options->AddOption("DelaunayMeshing.line_sample_step_m",
                      &input->line_sample_step_m,
                      "Spacing of the samples along a 3D line segment, "
-                     "metres, > 0.");
+                     "metres, >= 0; 0: the spacing of the surface points "
+                     "that the line validation measures (not in the "
+                     "paper).");
   options->AddOption("DelaunayMeshing.validate_lines", &input->validate_lines,
                      "Sample only the 3D lines that lie on a crease of the "
                      "visual and LIDAR points, moved onto it (not in the "

@@ -95,8 +95,9 @@ bool MeshingInputOptions::Check() const {
     LOG(ERROR) << "MeshingInput.line_weight must be >= 0";
     return false;
   }
-  if (!(line_sample_step_m > 0)) {
-    LOG(ERROR) << "MeshingInput.line_sample_step_m must be > 0";
+  if (!(line_sample_step_m >= 0) || !std::isfinite(line_sample_step_m)) {
+    LOG(ERROR) << "MeshingInput.line_sample_step_m must be >= 0 (0: the "
+                  "points' spacing)";
     return false;
   }
   if (!lidar_denoising.Check()) return false;
@@ -381,6 +382,23 @@ size_t AddLineSamples(
     spacing = ValidateLines(options, input->positions, options.num_threads,
                             &segments, &plane_band_m);
   }
+  // The step along the segments: as given, or the points' spacing (measured
+  // here when the validation did not); with too few points to measure it,
+  // only the end points.
+  double step_m = options.line_sample_step_m;
+  if (step_m == 0) {
+    if (spacing == 0 && !segments.empty() &&
+        input->positions.size() >
+            static_cast<size_t>(options.line_validation.spacing_neighbor)) {
+      spacing =
+          LineValidator(options.line_validation, input->positions).spacing();
+    }
+    step_m = spacing > 0 ? spacing : std::numeric_limits<double>::infinity();
+    if (!segments.empty()) {
+      LOG(INFO) << "Line samples every " << step_m
+                << " m (the surface points' spacing)";
+    }
+  }
   // The surface points the gaps are measured against (indexed before the
   // line samples are added, so those are not among them).
   std::unique_ptr<RadiusGrid> surface_grid;
@@ -421,9 +439,8 @@ size_t AddLineSamples(
     if (observers.empty()) continue;
     const Eigen::Vector3d& start = segment.start;
     const Eigen::Vector3d& end = segment.end;
-    const int num_steps = std::max(
-        1, static_cast<int>(std::ceil((end - start).norm() /
-                                      options.line_sample_step_m)));
+    const int num_steps =
+        std::max(1, static_cast<int>(std::ceil((end - start).norm() / step_m)));
     // The per-view endpoints are as noisy as the LIDAR edge points they
     // came from: an image sees a sample one step beyond its interval too.
     const double tolerance = 1.0 / num_steps;

@@ -118,6 +118,37 @@ TEST_F(MeshingInputTest, ReadsVisualLidarAndLines) {
           << "line sample " << i << " near surface point " << j;
     }
   }
+  // The default step is the points' spacing s that the validation measures
+  // (6.3 cm on the box): every validated line sampled at its end points and
+  // at most s apart, as few samples as that allows.
+  options.line_samples_only_in_gaps = false;
+  options.line_sample_step_m = 0;
+  const MeshingInput spaced = ReadMeshingInput(options, workspace_, lines_dir);
+  const double spacing = spaced.crease_spacing_m;
+  ASSERT_GT(spacing, 0.02);
+  ASSERT_LT(spacing, 0.1);
+  EXPECT_EQ(spaced.creases.size(), validated.creases.size());
+  size_t expected_spaced = 0;
+  for (const MeshCrease& crease : spaced.creases) {
+    expected_spaced +=
+        1 + std::ceil((crease.end - crease.start).norm() / spacing - 1e-9);
+  }
+  EXPECT_EQ(spaced.NumPoints(MeshingPointSource::kLine), expected_spaced);
+  EXPECT_GT(expected_spaced, num_validated);
+  // Without the validation the spacing is measured all the same, and every
+  // line sampled where estimated.
+  options.validate_lines = false;
+  const MeshingInput unvalidated =
+      ReadMeshingInput(options, workspace_, lines_dir);
+  size_t expected_unvalidated = 0;
+  for (const auto& [id, line] : lines_model.lines3D) {
+    expected_unvalidated +=
+        1 +
+        std::ceil((line.end_in_world - line.start_in_world).norm() / spacing -
+                  1e-9);
+  }
+  EXPECT_EQ(unvalidated.NumPoints(MeshingPointSource::kLine),
+            expected_unvalidated);
   // 12 cameras + 3 LIDAR origins.
   ASSERT_EQ(input.sensors.size(), 15u);
   for (int i = 0; i < 3; ++i) {
@@ -318,7 +349,11 @@ TEST(MeshingInputOptions, Check) {
   options.lidar_count_mapping = "cubic";
   EXPECT_FALSE(options.Check());
   options = MeshingInputOptions();
-  options.line_sample_step_m = 0;
+  options.line_sample_step_m = 0;  // The points' spacing.
+  EXPECT_TRUE(options.Check());
+  options.line_sample_step_m = -0.01;
+  EXPECT_FALSE(options.Check());
+  options.line_sample_step_m = std::numeric_limits<double>::infinity();
   EXPECT_FALSE(options.Check());
   EXPECT_EQ(LidarCountMappingFromString("LINEAR"), LidarCountMapping::kLinear);
 }
