@@ -26,6 +26,11 @@ void AddSynthesisOptions(SynthesisOptions* synth, OptionManager* options) {
                      "Share of the preset's walk path the frames cover, "
                      "from its start, (0, 1]; below 1 gives a short, densely "
                      "sampled walk (small test scenes).");
+  options->AddOption("Synthesis.length_factor", &synth->length_factor,
+                     "street_bent only: both legs of the street, and the "
+                     "walk along them, this many times as long (facades, "
+                     "paint, furniture and survey stations follow), >= 1; "
+                     "the scale benchmark (scripts/bench_scale.sh).");
   options->AddOption("Synthesis.seed", &synth->seed,
                      "Seed of all noise (trajectory jitter, LIDAR, priors, "
                      "image noise, survey); the scene is fixed per preset.");

@@ -148,6 +148,71 @@ TEST(SceneMesh, StreetBentCreaseEdgesIncludeTheKerbs) {
   EXPECT_GT(num_wall_hits, 500);
 }
 
+// Total length of a polyline in the ground plane.
+double PolylineLength(const std::vector<Eigen::Vector2d>& points) {
+  double length = 0.0;
+  for (size_t i = 1; i < points.size(); ++i) {
+    length += (points[i] - points[i - 1]).norm();
+  }
+  return length;
+}
+
+TEST(SceneMesh, StreetBentLengthFactorMakesTheSameStreetLonger) {
+  const SynthScene preset = BuildScene("street_bent");
+  // Factor 1 is the preset itself, triangle for triangle.
+  const SynthScene same = BuildScene("street_bent", 1.0);
+  ASSERT_EQ(same.mesh.NumTriangles(), preset.mesh.NumTriangles());
+  EXPECT_EQ(same.mesh.vertices, preset.mesh.vertices);
+  EXPECT_EQ(same.crease_edges.size(), preset.crease_edges.size());
+  EXPECT_EQ(same.survey_stations, preset.survey_stations);
+  EXPECT_EQ(same.path.waypoints, preset.path.waypoints);
+
+  const SynthScene longer = BuildScene("street_bent", 3.0);
+  CheckScene(longer, 3000);
+  // Legs of 135 m instead of 45, the walk 10 m short of each end: 2 x 125 m
+  // instead of 2 x 35 m (less the bend's rounding, the same in both).
+  const double walk = PolylineLength(preset.path.waypoints);
+  const double longer_walk = PolylineLength(longer.path.waypoints);
+  EXPECT_NEAR(longer_walk - walk, 180.0, 1e-6);
+  // Facades, kerbs and window frames all along it: the crease edges (and
+  // the triangles) grow with the street, about threefold.
+  EXPECT_GT(longer.crease_edges.size(), 2.5 * preset.crease_edges.size());
+  EXPECT_GT(longer.mesh.NumTriangles(), 2.5 * preset.mesh.NumTriangles());
+  // The furniture and cars (concrete, above the kerbs) repeat along both
+  // legs: on the
+  // preset within 45 m of the bend, here beyond 60 m on both sides.
+  auto concrete_extent = [](const SceneMesh& mesh) {
+    Eigen::Vector2d extent(0.0, 0.0);  // min x, max x
+    for (size_t t = 0; t < mesh.NumTriangles(); ++t) {
+      // Above the (concrete) kerbs.
+      const Eigen::Vector3f& vertex = mesh.vertices[mesh.triangles[t](0)];
+      if (mesh.materials[t] != Material::kConcrete || vertex.z() < 0.5) {
+        continue;
+      }
+      const float x = vertex.x();
+      extent(0) = std::min(extent(0), static_cast<double>(x));
+      extent(1) = std::max(extent(1), static_cast<double>(x));
+    }
+    return extent;
+  };
+  EXPECT_GT(concrete_extent(preset.mesh)(0), -45.0);
+  EXPECT_LT(concrete_extent(preset.mesh)(1), 45.0);
+  EXPECT_LT(concrete_extent(longer.mesh)(0), -60.0);
+  EXPECT_GT(concrete_extent(longer.mesh)(1), 60.0);
+  // The survey stations stand on the road, every 9 m along the whole
+  // centre line (first every 18 m, then between those), none off its ends.
+  ASSERT_EQ(longer.survey_stations.size(), 29u);
+  for (const Eigen::Vector2d& station : longer.survey_stations) {
+    EXPECT_LT(station.norm(), 135.0 - 8.0);
+  }
+  EXPECT_LT(
+      (longer.survey_stations.front() - Eigen::Vector2d(-126.0, 0.0)).norm(),
+      1e-9);
+  EXPECT_THROW(BuildScene("street_bent", 0.5), Error);
+  EXPECT_THROW(BuildScene("quad", 2.0), Error);
+  EXPECT_THROW(BuildScene("no_such_scene"), Error);
+}
+
 TEST(SceneMesh, StreetBentPaintIsFlatAndNoCrease) {
   const SynthScene scene = BuildScene("street_bent");
   ASSERT_GT(scene.paint_edges.size(), 40u);

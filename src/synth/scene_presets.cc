@@ -29,14 +29,19 @@ bool IsKnownScenePreset(const std::string& preset) {
   return false;
 }
 
-SynthScene BuildScene(const std::string& preset) {
+SynthScene BuildScene(const std::string& preset, double length_factor) {
+  if (!IsKnownScenePreset(preset)) {
+    THROW_ERROR("Unknown Synthesis.preset '" << preset << "' (expected "
+                                             << ScenePresetNamesText() << ")");
+  }
+  if (preset == "street_bent") return BuildStreetBentScene(length_factor);
+  THROW_CHECK(length_factor == 1.0,
+              "Synthesis.length_factor must be 1 for the preset '"
+                  << preset << "' (only street_bent can be made longer)");
   if (preset == "quad") return BuildQuadScene();
   if (preset == "street") return BuildStreetScene();
   if (preset == "corridor") return BuildCorridorScene();
-  if (preset == "street_bent") return BuildStreetBentScene();
-  if (preset == "square") return BuildSquareScene();
-  THROW_ERROR("Unknown Synthesis.preset '" << preset << "' (expected "
-                                           << ScenePresetNamesText() << ")");
+  return BuildSquareScene();
 }
 
 }  // namespace colmap_lidar

@@ -71,7 +71,12 @@ SynthScene BuildCorridorScene();
 // dashed centre line, a zebra crossing; their borders are paint edges);
 // benches, bollards, trees and parked cars (boxes). The rig walks 70 m on
 // the road through the bend (rounded, radius 12 m), sweeping +-45 deg.
-SynthScene BuildStreetBentScene();
+// length_factor >= 1 makes both legs that many times longer (facades,
+// pavements and paint follow; the furniture and cars repeat every 90 m;
+// the walk still ends 10 m before each end; the survey stations then stand
+// every 18 m along the centre line, then every 18 m between those): the
+// same street, longer, for the scale benchmark (issue 19). Throws below 1.
+SynthScene BuildStreetBentScene(double length_factor = 1.0);
 // "square": an open, paved 50 x 40 m square (x in [-25, 25], y in
 // [-20, 20]) with buildings on three sides only (west, north, half of the
 // south; the east opens onto more paving), so the ground dominates the
@@ -84,7 +89,9 @@ SynthScene BuildSquareScene();
 const std::vector<std::string>& ScenePresetNames();
 std::string ScenePresetNamesText();
 bool IsKnownScenePreset(const std::string& preset);
-// Throws colmap_lidar::Error on an unknown preset name.
-SynthScene BuildScene(const std::string& preset);
+// Throws colmap_lidar::Error on an unknown preset name, and on a
+// length_factor other than 1 for a preset that has none (all but
+// street_bent).
+SynthScene BuildScene(const std::string& preset, double length_factor = 1.0);
 
 }  // namespace colmap_lidar

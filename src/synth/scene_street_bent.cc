@@ -3,7 +3,9 @@
 // window frames, street furniture and parked cars.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "colmap_ext/util/logging.h"
 #include "src/synth/random.h"
 #include "src/synth/scene_blocks.h"
 #include "src/synth/scene_presets.h"
@@ -12,6 +14,7 @@ namespace colmap_lidar {
 namespace {
 
 constexpr double kBendDeg = 28.0;
+// Of the preset at length_factor 1; each leg is length_factor times longer.
 constexpr double kLegLength = 45.0;
 // Lateral offsets from the centre line of the road (metres, positive to
 // the left of the walking direction).
@@ -23,8 +26,12 @@ constexpr double kPavementBackOffset = 6.5;
 constexpr double kKerbHeight = 0.13;
 constexpr double kEdgeLineOffset = 3.2;
 constexpr double kWalkOffset = -1.5;
-constexpr double kWalkHalfLength = 35.0;
+// The walk ends this far before each end of the street.
+constexpr double kWalkEndMargin = 10.0;
 constexpr double kWalkBendRadius = 12.0;
+// The street furniture and parked cars repeat every this many metres along
+// a longer street.
+constexpr double kFurniturePeriod = 2.0 * kLegLength;
 
 Eigen::Vector2d Direction(int leg) {
   const double angle = leg == 0 ? 0.0 : kBendDeg * M_PI / 180.0;
@@ -35,11 +42,27 @@ Eigen::Vector2d LeftOf(const Eigen::Vector2d& d) {
   return Eigen::Vector2d(-d.y(), d.x());
 }
 
-// The road's centre line: leg 0 from (-45, 0) to the bend at the origin,
-// leg 1 from there along Direction(1).
-std::vector<Eigen::Vector2d> CenterLine() {
-  return {-kLegLength * Direction(0), Eigen::Vector2d::Zero(),
-          kLegLength * Direction(1)};
+// The road's centre line: leg 0 from (-leg_length, 0) to the bend at the
+// origin, leg 1 from there along Direction(1).
+std::vector<Eigen::Vector2d> CenterLine(double leg_length) {
+  return {-leg_length * Direction(0), Eigen::Vector2d::Zero(),
+          leg_length * Direction(1)};
+}
+
+// The positions s + k * kFurniturePeriod (integer k) of an object placed at
+// `s` on the preset's street that lie on a street of legs `leg_length` long,
+// more than 3 m from its ends; {s} on the preset's street.
+std::vector<double> Repeated(double s, double leg_length) {
+  std::vector<double> positions;
+  const int max_k = static_cast<int>(std::ceil(leg_length / kFurniturePeriod));
+  for (int k = -max_k; k <= max_k; ++k) {
+    const double position = s + k * kFurniturePeriod;
+    if (k == 0 ||
+        (leg_length > kLegLength && std::abs(position) < leg_length - 3.0)) {
+      positions.push_back(position);
+    }
+  }
+  return positions;
 }
 
 // The point `s` metres along the centre line from the bend (negative on
@@ -80,10 +103,11 @@ std::vector<Building> MakeRow(double length, uint64_t stream) {
 }
 
 // The walk: the right lane's centre line with the bend rounded by an arc.
-std::vector<Eigen::Vector2d> WalkWaypoints() {
+std::vector<Eigen::Vector2d> WalkWaypoints(double leg_length) {
+  const double walk_half_length = leg_length - kWalkEndMargin;
   const std::vector<Eigen::Vector2d> lane =
-      OffsetPolyline({-kWalkHalfLength * Direction(0), Eigen::Vector2d::Zero(),
-                      kWalkHalfLength * Direction(1)},
+      OffsetPolyline({-walk_half_length * Direction(0), Eigen::Vector2d::Zero(),
+                      walk_half_length * Direction(1)},
                      kWalkOffset);
   const double half_turn = 0.5 * kBendDeg * M_PI / 180.0;
   const double tangent_length = kWalkBendRadius * std::tan(half_turn);
@@ -104,10 +128,13 @@ std::vector<Eigen::Vector2d> WalkWaypoints() {
 
 }  // namespace
 
-SynthScene BuildStreetBentScene() {
+SynthScene BuildStreetBentScene(double length_factor) {
+  THROW_CHECK(std::isfinite(length_factor) && length_factor >= 1.0,
+              "street_bent: length_factor must be >= 1, got " << length_factor);
+  const double leg_length = kLegLength * length_factor;
   SceneBuilder builder;
-  AddGround(&builder, 80.0, Material::kAsphalt);
-  const std::vector<Eigen::Vector2d> center = CenterLine();
+  AddGround(&builder, leg_length + 35.0, Material::kAsphalt);
+  const std::vector<Eigen::Vector2d> center = CenterLine(leg_length);
 
   // Facades on both sides, standing on the pavements, one row per leg and
   // side; the rows meet at the bend, convex on the inner (left) side,
@@ -155,7 +182,7 @@ SynthScene BuildStreetBentScene() {
   const double crossing_start = -21.5;
   const double crossing_end = -18.5;
   uint32_t seed = 1610;
-  for (double s = -kLegLength + 2.0; s + 3.0 < kLegLength; s += 8.0) {
+  for (double s = -leg_length + 2.0; s + 3.0 < leg_length; s += 8.0) {
     const double s_end = s + 3.0;
     if (s < 1.5 && s_end > -1.5) continue;
     if (s < crossing_end + 1.0 && s_end > crossing_start - 1.0) continue;
@@ -171,36 +198,46 @@ SynthScene BuildStreetBentScene() {
   // along the kerbs, trees; parked cars (boxes) in the left lane, clear of
   // the paint.
   const double bench_s[4] = {-30.0, -8.0, 10.0, 33.0};
+  // Along a longer street they repeat every kFurniturePeriod (Repeated).
   for (int k = 0; k < 4; ++k) {
     const double side = k % 2 == 0 ? 1.0 : -1.0;
-    const double s = bench_s[k];
-    const Eigen::Vector2d d = Direction(s < 0.0 ? 0 : 1);
-    // The sitter looks to the left of `along`: towards the road.
-    AddBench(&builder, StreetPoint(s, side * 4.2),
-             side > 0 ? Eigen::Vector2d(-d) : d, kKerbHeight, 1.8,
-             1700 + 2 * k);
+    for (const double s : Repeated(bench_s[k], leg_length)) {
+      const Eigen::Vector2d d = Direction(s < 0.0 ? 0 : 1);
+      // The sitter looks to the left of `along`: towards the road.
+      AddBench(&builder, StreetPoint(s, side * 4.2),
+               side > 0 ? Eigen::Vector2d(-d) : d, kKerbHeight, 1.8,
+               1700 + 2 * k);
+    }
   }
   for (int k = 0; k < 5; ++k) {
-    const double s = -16.0 + 1.6 * k;
-    builder.AddCylinder(StreetPoint(s, -3.8), 0.1, kKerbHeight, 0.9, 12,
-                        Material::kConcrete, 1720 + k, true,
-                        /*on_support=*/true);
+    for (const double s : Repeated(-16.0 + 1.6 * k, leg_length)) {
+      builder.AddCylinder(StreetPoint(s, -3.8), 0.1, kKerbHeight, 0.9, 12,
+                          Material::kConcrete, 1720 + k, true,
+                          /*on_support=*/true);
+    }
   }
   for (int k = 0; k < 4; ++k) {
-    const double s = 18.0 + 1.6 * k;
-    builder.AddCylinder(StreetPoint(s, 3.8), 0.1, kKerbHeight, 0.9, 12,
-                        Material::kConcrete, 1730 + k, true,
-                        /*on_support=*/true);
+    for (const double s : Repeated(18.0 + 1.6 * k, leg_length)) {
+      builder.AddCylinder(StreetPoint(s, 3.8), 0.1, kKerbHeight, 0.9, 12,
+                          Material::kConcrete, 1730 + k, true,
+                          /*on_support=*/true);
+    }
   }
-  AddTree(&builder, StreetPoint(-24.0, -4.2), 2.6, 1.2, 1740);
-  AddTree(&builder, StreetPoint(-4.0, 4.3), 2.6, 1.2, 1741);
-  AddTree(&builder, StreetPoint(24.0, -4.2), 2.6, 1.2, 1742);
+  const double tree_s[3] = {-24.0, -4.0, 24.0};
+  const double tree_offset[3] = {-4.2, 4.3, -4.2};
+  for (int k = 0; k < 3; ++k) {
+    for (const double s : Repeated(tree_s[k], leg_length)) {
+      AddTree(&builder, StreetPoint(s, tree_offset[k]), 2.6, 1.2, 1740 + k);
+    }
+  }
   const double car_s[4] = {-38.0, -27.0, 14.0, 29.0};
   for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector2d d = Direction(car_s[k] < 0.0 ? 0 : 1);
-    AddStandingBox(&builder, StreetPoint(car_s[k], 2.15), d, 0.0,
-                   Eigen::Vector3d(4.2, 1.8, 1.4), Material::kConcrete,
-                   1750 + k);
+    for (const double s : Repeated(car_s[k], leg_length)) {
+      const Eigen::Vector2d d = Direction(s < 0.0 ? 0 : 1);
+      AddStandingBox(&builder, StreetPoint(s, 2.15), d, 0.0,
+                     Eigen::Vector3d(4.2, 1.8, 1.4), Material::kConcrete,
+                     1750 + k);
+    }
   }
 
   SynthScene scene;
@@ -217,7 +254,20 @@ SynthScene BuildStreetBentScene() {
                            StreetPoint(9, 0),   StreetPoint(27, 0),
                            StreetPoint(-36, 1), StreetPoint(-18, -1),
                            StreetPoint(18, 1),  StreetPoint(36, -1)};
-  scene.path.waypoints = WalkWaypoints();
+  if (length_factor > 1.0) {
+    // A longer street: one station every 18 m along the centre line, 9 m
+    // from its ends and from each other's neighbours (the preset's spacing),
+    // first those, then the same shifted by 9 m and 1 m to the side.
+    scene.survey_stations.clear();
+    for (const double shift : {0.0, 9.0}) {
+      for (double s = -leg_length + 9.0 + shift; s <= leg_length - 9.0;
+           s += 18.0) {
+        scene.survey_stations.push_back(
+            StreetPoint(s, shift == 0.0 ? 0.0 : (s < 0.0 ? 1.0 : -1.0)));
+      }
+    }
+  }
+  scene.path.waypoints = WalkWaypoints(leg_length);
   scene.path.closed = false;
   scene.path.look_yaw_offset_deg = 0.0;
   scene.path.yaw_amplitude_deg = 45.0;

@@ -1,5 +1,7 @@
 #include "src/synth/synthesis_options.h"
 
+#include <cmath>
+
 #include <glog/logging.h>
 
 #include "src/synth/lidar_simulator.h"
@@ -22,6 +24,12 @@ bool SynthesisOptions::Check() const {
   }
   SYNTH_CHECK_OPTION(num_frames >= 1);
   SYNTH_CHECK_OPTION(path_fraction > 0.0 && path_fraction <= 1.0);
+  SYNTH_CHECK_OPTION(std::isfinite(length_factor) && length_factor >= 1.0);
+  if (length_factor != 1.0 && preset != "street_bent") {
+    LOG(ERROR) << "Synthesis.length_factor must be 1 for the preset '"
+               << preset << "' (only street_bent can be made longer)";
+    return false;
+  }
   SYNTH_CHECK_OPTION(image_width >= 8 && image_height >= 8);
   SYNTH_CHECK_OPTION(horizontal_fov_deg > 0.0 && horizontal_fov_deg < 170.0);
   SYNTH_CHECK_OPTION(supersampling >= 1 && supersampling <= 8);

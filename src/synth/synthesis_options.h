@@ -35,6 +35,11 @@ struct SynthesisOptions {
   // in (0, 1]. Below 1 the path is walked as an open path up to that arc
   // length: fewer frames then still overlap (small test scenes).
   double path_fraction = 1.0;
+  // street_bent only: both legs of the street, and the walk along them,
+  // this many times as long (scene_presets.h), >= 1; num_frames then
+  // samples the longer walk (the scale benchmark, issue 19: 60 frames at
+  // 1, 200 at 200 / 60). Other presets take 1 only.
+  double length_factor = 1.0;
   // Seed of every random quantity (trajectory jitter, LIDAR, prior noise,
   // image noise, survey). The scene geometry itself is fixed per preset.
   int seed = 0;

@@ -46,6 +46,7 @@ std::string FormatOptions(const SynthesisOptions& o) {
   out << std::setprecision(17);
   out << "preset = " << o.preset << "\n"
       << "num_frames = " << o.num_frames << "\n"
+      << "length_factor = " << o.length_factor << "\n"
       << "seed = " << o.seed << "\n"
       << "image_width = " << o.image_width << "\n"
       << "image_height = " << o.image_height << "\n"
@@ -62,13 +63,10 @@ std::string FormatOptions(const SynthesisOptions& o) {
       << "lidar_model = " << o.lidar_model << "\n"
       << "lidar_rings = " << o.lidar_rings << "\n"
       << "lidar_columns = " << o.lidar_columns << "\n"
-      << "lidar_vertical_fov_min_deg = " << o.lidar_vertical_fov_min_deg
-      << "\n"
-      << "lidar_vertical_fov_max_deg = " << o.lidar_vertical_fov_max_deg
-      << "\n"
+      << "lidar_vertical_fov_min_deg = " << o.lidar_vertical_fov_min_deg << "\n"
+      << "lidar_vertical_fov_max_deg = " << o.lidar_vertical_fov_max_deg << "\n"
       << "lidar_range_noise_m = " << o.lidar_range_noise_m << "\n"
-      << "lidar_dropout_probability = " << o.lidar_dropout_probability
-      << "\n"
+      << "lidar_dropout_probability = " << o.lidar_dropout_probability << "\n"
       << "lidar_grazing_dropout = " << o.lidar_grazing_dropout << "\n"
       << "lidar_min_range_m = " << o.lidar_min_range_m << "\n"
       << "lidar_max_range_m = " << o.lidar_max_range_m << "\n"
@@ -432,7 +430,7 @@ SynthesisSummary SynthesizeDataset(const SynthesisOptions& options,
   THROW_CHECK(!ExistsFile(output_path) || ExistsDir(output_path),
               "Output path " << output_path << " is a file");
 
-  const SynthScene scene = BuildScene(options.preset);
+  const SynthScene scene = BuildScene(options.preset, options.length_factor);
   const RayTracer tracer(scene.mesh);
   LOG(INFO) << "Scene " << scene.name << ": " << scene.mesh.NumTriangles()
             << " triangles, " << scene.crease_edges.size() << " crease edges"

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -376,6 +377,20 @@ TEST(Synthesize, RejectsBadOptions) {
   options.camera_model = "OPENCV";
   options.camera_k1 = -0.5;  // Folds over inside the image.
   EXPECT_FALSE(options.Check());
+  // Only street_bent can be made longer, and not shorter.
+  options = TinyOptions();
+  options.preset = "street_bent";
+  options.length_factor = 3.0;
+  EXPECT_TRUE(options.Check());
+  options.length_factor = 0.5;
+  EXPECT_FALSE(options.Check());
+  options.length_factor = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(options.Check());
+  options.length_factor = 2.0;
+  options.preset = "quad";
+  EXPECT_FALSE(options.Check());
+  EXPECT_THROW(SynthesizeDataset(options, testing::CreateTestDir() + "/z"),
+               Error);
   EXPECT_TRUE(TinyOptions().Check());
 }
 
