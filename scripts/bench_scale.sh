@@ -15,8 +15,8 @@
 # Usage: bash scripts/bench_scale.sh [--work DIR] [--frames 60,200,600]
 #          [--threads N] [-- extra automatic_reconstructor options]
 #   work    results: DIR/N/{dataset,ws,synthesize.log,pipeline.log,time.txt}
-#           (default bench_work/scale); a finished size is kept, so a re-run
-#           only does what is missing
+#           (default bench_work/scale); a finished size is kept, and an
+#           interrupted one resumes at its first unfinished stage
 #   frames  frame counts, ascending (default 60,200,600)
 #   threads threads of every stage (default: all cores)
 # COLMAP_LIDAR_BIN selects colmap-lidar (default build/colmap-lidar). Every
@@ -90,8 +90,9 @@ print('%.6f' % f, 4 if f == 1.0 else int(math.floor((2 * leg - 18.0) / 18.0 + 1e
       fail "${n} frames: synthesize failed, see ${dir}/synthesize.log"
     touch "${dir}/dataset.done"
   fi
+  # An interrupted run resumes at its first unfinished stage (the pipeline's
+  # own stage records); time.txt then covers the resumed part only.
   log "${n} frames: automatic_reconstructor"
-  rm -rf "${dir}/ws"
   run_logged "${dir}/pipeline.log" /usr/bin/time -v -o "${dir}/time.txt" \
     "${BIN}" automatic_reconstructor --dataset_path "${dir}/dataset" \
     --workspace_path "${dir}/ws" \
