@@ -19,9 +19,9 @@
 #           interrupted one resumes at its first unfinished stage
 #   frames  frame counts, ascending (default 60,200,600)
 #   threads threads of every stage (default: all cores)
-# COLMAP_LIDAR_BIN selects colmap-lidar (default build/colmap-lidar). Every
-# step logs its progress at least once a minute (the pipeline's own log
-# lines, and a line of this script per minute while synthesize runs).
+# COLMAP_LIDAR_BIN selects colmap-lidar (default build/colmap-lidar). While
+# a step runs, a line per minute gives its time and last log line
+# (scripts/progress_lib.sh); the logs of a resumed size are appended to.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -51,19 +51,7 @@ for n in "${SIZES[@]}"; do
 done
 mkdir -p "${WORK}"
 
-# Runs "$@" with its output to file $1, logging once a minute while it runs.
-run_logged() {
-  local out=$1; shift
-  "$@" > "${out}" 2>&1 &
-  local pid=$! waited=0
-  while kill -0 "${pid}" 2>/dev/null; do
-    sleep 5; waited=$((waited + 5))
-    if (( waited % 60 == 0 )); then
-      log "  ... ${waited} s: $(tail -n 1 "${out}" | cut -c1-150)"
-    fi
-  done
-  wait "${pid}"
-}
+source "${ROOT}/scripts/progress_lib.sh"
 
 for n in "${SIZES[@]}"; do
   dir="${WORK}/${n}"
@@ -82,7 +70,8 @@ print('%.6f' % f, 4 if f == 1.0 else int(math.floor((2 * leg - 18.0) / 18.0 + 1e
   if [[ ! -f "${dir}/dataset.done" ]]; then
     log "${n} frames: synthesize (length_factor ${factor}, ${stations} survey stations)"
     rm -rf "${dir}/dataset"
-    run_logged "${dir}/synthesize.log" "${BIN}" synthesize --output_path "${dir}/dataset" \
+    rm -f "${dir}/synthesize.log"
+    run_with_progress "${n} frames: synthesize" "${dir}/synthesize.log" "${BIN}" synthesize --output_path "${dir}/dataset" \
       --Synthesis.preset street_bent --Synthesis.num_frames "${n}" \
       --Synthesis.length_factor "${factor}" \
       --Synthesis.survey_num_stations "${stations}" \
@@ -93,7 +82,7 @@ print('%.6f' % f, 4 if f == 1.0 else int(math.floor((2 * leg - 18.0) / 18.0 + 1e
   # An interrupted run resumes at its first unfinished stage (the pipeline's
   # own stage records); time.txt then covers the resumed part only.
   log "${n} frames: automatic_reconstructor"
-  run_logged "${dir}/pipeline.log" /usr/bin/time -v -o "${dir}/time.txt" \
+  run_with_progress "${n} frames: automatic_reconstructor" "${dir}/pipeline.log" /usr/bin/time -v -o "${dir}/time.txt" \
     "${BIN}" automatic_reconstructor --dataset_path "${dir}/dataset" \
     --workspace_path "${dir}/ws" \
     --AutomaticReconstruction.num_threads "${THREADS}" "${EXTRA[@]}" ||

@@ -92,7 +92,7 @@ export_tag() {
   log "exported ${tag} ($(git -C "${src}" rev-parse --short "${tag}^{commit}")) of ${src}"
 }
 
-source "${ROOT}/scripts/baselines/progress_lib.sh"
+source "${ROOT}/scripts/progress_lib.sh"
 # with_progress LABEL CMD...: runs CMD, its output in LABEL's log, with a
 # progress line a minute; fails naming the log.
 with_progress() {

@@ -78,7 +78,7 @@ mkdir -p "${OUTPUT}/matches"
 OUTPUT=$(cd "${OUTPUT}" && pwd)
 LOG="${OUTPUT}/log.txt"
 START=${SECONDS}
-source "${ROOT}/scripts/baselines/progress_lib.sh"
+source "${ROOT}/scripts/progress_lib.sh"
 step() {  # step NAME CMD...: runs CMD into the log, fails naming the step
   local name=$1; shift
   log "${name}"

@@ -48,7 +48,7 @@ mkdir -p "${OUTPUT}"
 OUTPUT=$(cd "${OUTPUT}" && pwd)
 LOG="${OUTPUT}/log.txt"
 : > "${OUTPUT}/time.txt"
-source "${ROOT}/scripts/baselines/progress_lib.sh"
+source "${ROOT}/scripts/progress_lib.sh"
 step() {  # step NAME CMD...: runs CMD into the log with a progress line a minute
   local name=$1; shift
   log "${name}"

@@ -1,7 +1,8 @@
-# Sourced by the scripts of scripts/baselines/: run_with_progress LABEL
+# Sourced by the benchmark scripts (scripts/baselines/, bench_scale.sh): run_with_progress LABEL
 # LOG_FILE CMD... runs CMD with its output appended to LOG_FILE and, while it
 # runs, prints "LABEL: N s" once a minute through the caller's log function
-# (builds and OpenMVS steps take minutes); returns CMD's exit status.
+# (builds, OpenMVS steps and whole pipelines take minutes); returns CMD's
+# exit status.
 run_with_progress() {
   local label=$1 log_file=$2
   shift 2
