@@ -179,8 +179,8 @@ TEST(SceneMesh, StreetBentLengthFactorMakesTheSameStreetLonger) {
   EXPECT_GT(longer.crease_edges.size(), 2.5 * preset.crease_edges.size());
   EXPECT_GT(longer.mesh.NumTriangles(), 2.5 * preset.mesh.NumTriangles());
   // The furniture and cars (concrete, above the kerbs) repeat along both
-  // legs: on the
-  // preset within 45 m of the bend, here beyond 60 m on both sides.
+  // legs: on the preset within 45 m of the bend, here beyond 60 m on both
+  // sides.
   auto concrete_extent = [](const SceneMesh& mesh) {
     Eigen::Vector2d extent(0.0, 0.0);  // min x, max x
     for (size_t t = 0; t < mesh.NumTriangles(); ++t) {
