@@ -1,9 +1,10 @@
 // The scene presets of the synthesiser: triangle meshes with materials,
 // ground-truth crease edges, where the survey tripods stand and the path
 // the handheld rig walks. One file per preset (scene_<preset>.cc), made of
-// the shared blocks of scene_blocks.h; BuildScene dispatches by name. The geometry is fixed per preset (it does not
-// depend on SynthesisOptions::seed), so datasets generated with different
-// seeds share the same reference.
+// the shared blocks of scene_blocks.h; BuildScene dispatches by name. The
+// geometry is fixed per preset and length factor (it does not depend on
+// SynthesisOptions::seed), so datasets generated with different seeds share
+// the same reference.
 #pragma once
 
 #include <string>
