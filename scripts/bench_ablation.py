@@ -83,6 +83,10 @@ EXTENSIONS = [
       "LidarPatchMatch.interpolation_max_edge_factor"]),
     ("samples_at_pixel_centres", "dense",
      ["LidarPatchMatch.lidar_samples_at_pixel_centres"]),
+    ("textureless_fill", "dense",
+     ["LidarPatchMatch.fill_textureless_regions"]),
+    ("lidar_where_unseen", "dense",
+     ["LidarPatchMatch.keep_lidar_where_unseen"]),
 ]
 # The paper's own line term, removed from both presets.
 PAPER_LINE_TERM = ("no_paper_line_term", "sfm",

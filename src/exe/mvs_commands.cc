@@ -162,9 +162,19 @@ void AddLidarPatchMatchOptions(LidarPatchMatchOptions* o,
                      "Pixels outside the interpolated samples start from the "
                      "nearest interpolated pixel's plane, not a random one "
                      "(no LIDAR prior there; not in the paper).");
+  options->AddOption(s + "keep_lidar_where_unseen", &o->keep_lidar_where_unseen,
+                     "Geometric maps: where no source view can see the "
+                     "LIDAR prior's point, the pixel takes the LIDAR's plane "
+                     "(confirmed by the LIDAR alone, not fused; not in the "
+                     "paper).");
   options->AddOption(s + "min_depth", &o->min_depth,
                      "LIDAR and feature depths below this are ignored, "
                      "metres, > 0.");
+  options->AddOption(s + "fill_textureless_regions",
+                     &o->fill_textureless_regions,
+                     "Geometric maps: the empty pixels of a textureless "
+                     "region whose measured pixels fit one plane take it "
+                     "(not fused; not in the paper).");
   options->AddOption(s + "filter_max_cost", &o->filter_max_cost,
                      "Pixels with a higher cost (1 - NCC) are invalid, "
                      "(0, 2].");
@@ -260,7 +270,8 @@ int RunLidarPatchMatchStereoCommand(int argc, char** argv) {
   if (summary.support.Total() > 0) {
     std::cout << "Geometric maps: " << summary.support.Format() << "; "
               << summary.num_not_fused << " kept out of fusion ("
-              << FusionMaskDir(workspace_path) << ")" << std::endl;
+              << FusionMaskDir(workspace_path) << "); " << summary.num_filled
+              << " textureless pixels filled" << std::endl;
   }
   return EXIT_SUCCESS;
 }

@@ -82,6 +82,9 @@ struct LidarPatchMatchSummary {
   // Geometric pixels kept by the LIDAR's vote or the parallax tolerance
   // only (masked out of fusion).
   size_t num_not_fused = 0;
+  // Empty textureless geometric pixels given the plane of the measured
+  // pixels enclosing them (fill_enclosed_textureless).
+  size_t num_filled = 0;
   // Geometric pixels by what confirmed them (maps computed in this run).
   DepthSupportCounts support;
   double seconds = 0.0;

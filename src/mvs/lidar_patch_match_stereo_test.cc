@@ -243,7 +243,9 @@ TEST(LidarPatchMatchStereo, LidarCountsAsAConsistentView) {
   // No pixel can pass on the images alone; some sources agree with each.
   EXPECT_EQ(summary.support.images_only + summary.support.images_and_lidar,
             0u);
-  EXPECT_EQ(summary.support.lidar_and_views + summary.support.lidar_only,
+  // Kept out of fusion: those and the textureless pixels filled.
+  EXPECT_EQ(summary.support.lidar_and_views + summary.support.lidar_only +
+                summary.num_filled,
             summary.num_not_fused);
   EXPECT_GT(summary.support.lidar_and_views, summary.support.lidar_only);
   std::cout << num_valid << " pixels confirmed by 4 views and the LIDAR, "

@@ -69,6 +69,35 @@ std::string DepthSupportCounts::Format() const {
   return out.str();
 }
 
+size_t KeepLidarWhereUnseen(const PatchCostComputer& cost,
+                            const std::vector<float>& prior_depth,
+                            const std::vector<Eigen::Vector3f>& prior_normal,
+                            PlaneMap* map) {
+  THROW_CHECK(prior_depth.size() == map->depth.size() &&
+                  prior_normal.size() == map->depth.size(),
+              "LIDAR prior of "
+                  << prior_depth.size() << " depths and " << prior_normal.size()
+                  << " normals for a map of " << map->depth.size());
+  size_t num_reset = 0;
+  for (int row = 0; row < map->height; ++row) {
+    for (int col = 0; col < map->width; ++col) {
+      const size_t i = map->Index(row, col);
+      const float prior = prior_depth[i];
+      if (!(prior > 0) || !(prior_normal[i].norm() > 0)) continue;
+      bool seen = false;
+      for (int s = 0; s < cost.NumSources() && !seen; ++s) {
+        seen = cost.SourceSees(s, row, col, prior);
+      }
+      if (seen) continue;
+      map->depth[i] = prior;
+      map->normal[i] = prior_normal[i];
+      map->cost[i] = kMaxCost;
+      ++num_reset;
+    }
+  }
+  return num_reset;
+}
+
 size_t FilterByConsistency(const PatchCostComputer& cost,
                            const LidarPatchMatchOptions& options,
                            const std::vector<float>& lidar_depth,

@@ -54,6 +54,22 @@ struct DepthSupportCounts {
   std::string Format() const;
 };
 
+// Where no source view can see the surface of the LIDAR prior (its point
+// lies behind every source or outside its image: the surroundings of the
+// first frame of a walk, which the later frames have passed), the images
+// cannot measure the pixel and the LIDAR is its only measurement; but the
+// search moves such a pixel to any depth some source sees, since an
+// unverifiable hypothesis costs the maximum and a match anywhere costs
+// less. Resets those pixels (prior_depth > 0, a prior normal) to the prior's
+// plane with cost kMaxCost, so that FilterByCostOrPrior keeps them and
+// FilterByConsistency confirms them by the LIDAR alone (kept out of fusion:
+// no source agrees). `prior_depth` and `prior_normal` are row-major of the
+// map's size. Returns the number of pixels reset.
+size_t KeepLidarWhereUnseen(const PatchCostComputer& cost,
+                            const std::vector<float>& prior_depth,
+                            const std::vector<Eigen::Vector3f>& prior_normal,
+                            PlaneMap* map);
+
 // Needs cost.HasSourceMaps(). `lidar_depth` (row-major of the map's size,
 // 0: none; may be empty) is the interpolated LIDAR depth: with
 // options.filter_lidar_as_view, agreeing with it within

@@ -74,5 +74,65 @@ TEST(MapFilter, ParallaxToleranceKeepsWhatTheDepthTestAccepts) {
   EXPECT_EQ(wrong.Filter(OneViewOptions(true), &not_fused), 0u);
 }
 
+// The source 3 m ahead of the reference: the ground just ahead of the
+// reference lies behind the source or below its image, so only the LIDAR
+// measures it. Those pixels return to the prior's plane; the ground the
+// source sees keeps the search's depth (here 20 % off, for the filters to
+// judge), and pixels without a prior stay as they were.
+TEST(MapFilter, LidarKeptWhereNoSourceSeesIt) {
+  const int width = 320, height = 240;
+  const float ground_height = 1.5f;
+  const GroundViewPair views(width, height, ground_height,
+                             Eigen::Vector3d(0.0, 0.0, 3.0));
+  const PlaneMap truth = GroundPlaneMap(views.ref, ground_height, 12.0f);
+  std::vector<float> prior_depth = truth.depth;
+  // No prior on the left tenth of the image.
+  for (int row = 0; row < height; ++row) {
+    for (int col = 0; col < width / 10; ++col) {
+      prior_depth[truth.Index(row, col)] = 0.0f;
+    }
+  }
+  PlaneMap map = truth;
+  for (float& depth : map.depth) depth *= 1.2f;
+  const LidarPatchMatchOptions options;
+  const PatchCostComputer cost(views.ref, {&views.src}, options);
+  const size_t num_reset =
+      KeepLidarWhereUnseen(cost, prior_depth, truth.normal, &map);
+  const Eigen::Matrix3d K = TestCalibration(width, height);
+  size_t num_unseen = 0;
+  size_t num_seen = 0;
+  for (int row = 0; row < height; ++row) {
+    for (int col = 0; col < width; ++col) {
+      const size_t i = truth.Index(row, col);
+      if (!(truth.depth[i] > 0)) continue;
+      if (!(prior_depth[i] > 0)) {
+        ASSERT_EQ(map.depth[i], 1.2f * truth.depth[i]);
+        continue;
+      }
+      // The ground point in the source's frame (same orientation, 3 m on).
+      const Eigen::Vector3d point =
+          truth.depth[i] * K.inverse() * Eigen::Vector3d(col, row, 1.0) -
+          Eigen::Vector3d(0.0, 0.0, 3.0);
+      const Eigen::Vector3d projection = K * point;
+      const double x = projection.x() / projection.z();
+      const double y = projection.y() / projection.z();
+      const bool seen = point.z() > 0 && x >= -0.5 && y >= -0.5 &&
+                        x < width - 0.5 && y < height - 0.5;
+      if (seen) {
+        ++num_seen;
+        ASSERT_FLOAT_EQ(map.depth[i], 1.2f * truth.depth[i]);
+      } else {
+        ++num_unseen;
+        ASSERT_EQ(map.depth[i], truth.depth[i]);
+        ASSERT_EQ(map.normal[i], truth.normal[i]);
+        ASSERT_EQ(map.cost[i], kMaxCost);
+      }
+    }
+  }
+  EXPECT_EQ(num_reset, num_unseen);
+  EXPECT_GT(num_unseen, 1000u);
+  EXPECT_GT(num_seen, 1000u);
+}
+
 }  // namespace
 }  // namespace colmap_lidar

@@ -142,6 +142,12 @@ void PatchCostComputer::PrepareRefPatch(int row, int col,
   patch->variance = second - mean * mean;
 }
 
+bool PatchCostComputer::Textureless(int row, int col) const {
+  RefPatch patch;
+  PrepareRefPatch(row, col, &patch);
+  return patch.variance < kMinVariance;
+}
+
 float PatchCostComputer::PhotometricCost(const RefPatch& patch, int src,
                                          float depth,
                                          const Eigen::Vector3f& normal) const {

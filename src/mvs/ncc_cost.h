@@ -58,6 +58,9 @@ class PatchCostComputer {
   const MvsView& Ref() const { return ref_; }
 
   void PrepareRefPatch(int row, int col, RefPatch* patch) const;
+  // Whether pixel (row, col)'s window is too plain for NCC (its weighted
+  // grey variance below the cost's floor): every hypothesis costs kMaxCost.
+  bool Textureless(int row, int col) const;
 
   // 1 - weighted NCC for source `src`, in [0, kMaxCost].
   float PhotometricCost(const RefPatch& patch, int src, float depth,

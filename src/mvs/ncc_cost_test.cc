@@ -73,6 +73,18 @@ TEST(NccCost, TexturelessWindowsAndOutOfViewCostTheMaximum) {
   RefPatch patch;
   cost.PrepareRefPatch(15, 20, &patch);
   EXPECT_EQ(cost.Cost(patch, 3.0f, Eigen::Vector3f(0, 0, -1)), kMaxCost);
+  EXPECT_TRUE(cost.Textureless(15, 20));
+  EXPECT_TRUE(cost.Textureless(0, 0));
+  // A checker pattern is textured everywhere.
+  std::vector<float> checker(width * height);
+  for (int i = 0; i < width * height; ++i) {
+    checker[i] = ((i % width) / 2 + (i / width) / 2) % 2 ? 0.7f : 0.3f;
+  }
+  const MvsView textured =
+      MakeMvsView("textured", K, poses[0], width, height, checker);
+  const PatchCostComputer textured_cost(textured, {&other}, options);
+  EXPECT_FALSE(textured_cost.Textureless(15, 20));
+  EXPECT_FALSE(textured_cost.Textureless(0, 0));
 }
 
 // Ground 1.5 m below two cameras looking along it, the source 2 m behind the

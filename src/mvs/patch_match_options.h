@@ -133,8 +133,27 @@ struct LidarPatchMatchOptions {
   // LIDAR prior. Not in the paper (Li et al. and COLMAP start them
   // randomly).
   bool init_extrapolate_planes = true;
+  // Geometric maps: where no source view can see the LIDAR prior's point
+  // (behind every source or outside its image: what the first frame of a
+  // walk sees beside it, which the later frames have passed), the pixel
+  // takes the LIDAR's plane after the geometric pass instead of the
+  // search's (which moves it to any depth that some source sees, since
+  // matching anything costs less than an unverifiable hypothesis); the
+  // geometric filter confirms it by the LIDAR alone and keeps it out of
+  // fusion (KeepLidarWhereUnseen). The photometric maps, which the other
+  // views read, stay as they are. Not in the paper or COLMAP.
+  bool keep_lidar_where_unseen = true;
   // LIDAR points nearer than this to the camera are ignored, metres.
   double min_depth = 0.1;
+
+  // Geometric maps: the empty pixels of a textureless region (no texture
+  // edge inside it; NCC cannot verify a depth there) whose measured pixels
+  // fit one plane take that plane (src/mvs/textureless_fill.h): plain
+  // plaster above the LIDAR's vertical field, joined without an edge to the
+  // same plaster below it, which the LIDAR measures. A region with no
+  // measured pixel (the sky) stays empty. Interpolated, not measured: the
+  // filled pixels are kept out of fusion. Not in the paper or COLMAP.
+  bool fill_textureless_regions = true;
 
   // Filtering: photometric cost above this (1 - NCC) makes a pixel invalid,
   // (0, 2].

@@ -226,7 +226,8 @@ std::string RunPatchMatchStage(const PipelineContext& context) {
        << summary.num_without_sources << " without source views";
   if (summary.support.Total() > 0) {
     note << "; geometric " << summary.support.Format() << "; "
-         << summary.num_not_fused << " kept out of fusion";
+         << summary.num_not_fused << " kept out of fusion; "
+         << summary.num_filled << " textureless pixels filled";
   }
   return note.str();
 }
