@@ -19,7 +19,7 @@ Eigen::Vector3d PixelVector(int index, int width) {
   return Eigen::Vector3d(index % width, index / width, 1.0);
 }
 
-// 4-connected components of `mask`; labels -1 outside it.
+// The pixel indices of each 4-connected component of `mask`.
 std::vector<std::vector<int>> Components(const std::vector<uint8_t>& mask,
                                          int width, int height) {
   std::vector<std::vector<int>> components;
@@ -74,7 +74,7 @@ Affine FitAffine(const std::vector<int>& pixels, const PlaneMap& map) {
 bool FitRegionPlane(const std::vector<int>& measured, const PlaneMap& map,
                     const Eigen::Matrix3f& K,
                     const TexturelessFillOptions& options, Affine* affine,
-                    float* max_inlier_depth) {
+                    Eigen::Vector3f* normal, float* max_inlier_depth) {
   const int width = map.width;
   if (static_cast<int>(measured.size()) < options.min_support_pixels) {
     return false;
@@ -131,9 +131,8 @@ bool FitRegionPlane(const std::vector<int>& measured, const PlaneMap& map,
   *affine = FitAffine(inliers, map);
   // On a plane n . X = e (camera frame), 1 / z = (n^T K^-1 / e) [col, row,
   // 1]^T, so n is parallel to K^T (a, b, c).
-  const Eigen::Vector3f normal =
-      (K.transpose() * affine->cast<float>()).normalized();
-  if (!normal.allFinite()) return false;
+  *normal = (K.transpose() * affine->cast<float>()).normalized();
+  if (!normal->allFinite()) return false;
   // The inliers again, now with the refitted plane and their own normals:
   // a curved surface (a tanker's tank) fits one plane's depths within the
   // tolerance over a small region, but not its normals.
@@ -144,7 +143,7 @@ bool FitRegionPlane(const std::vector<int>& measured, const PlaneMap& map,
   for (const int i : inliers) {
     if (!IsInlier(*affine, i, width, map.depth[i],
                   options.max_relative_depth_error) ||
-        !(std::abs(map.normal[i].dot(normal)) >=
+        !(std::abs(map.normal[i].dot(*normal)) >=
           min_cos * map.normal[i].norm())) {
       continue;
     }
@@ -203,13 +202,12 @@ size_t FillTexturelessRegions(const Eigen::Matrix3f& K,
       (map->depth[i] > 0 ? measured : empty).push_back(i);
     }
     Affine affine;
+    Eigen::Vector3f normal;
     float max_inlier_depth = 0.0f;
     if (empty.empty() || !FitRegionPlane(measured, *map, K, options, &affine,
-                                         &max_inlier_depth)) {
+                                         &normal, &max_inlier_depth)) {
       continue;
     }
-    Eigen::Vector3f normal =
-        (K.transpose() * affine.cast<float>()).normalized();
     const double max_depth = options.max_depth_factor * max_inlier_depth;
     for (const int i : empty) {
       const double w = affine.dot(PixelVector(i, width));
