@@ -11,6 +11,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev
   libpcl-dev libcgal-dev libflann-dev libembree-dev libtbb-dev
   libsqlite3-dev libyaml-cpp-dev nlohmann-json3-dev
+  libopenmpi-dev openmpi-bin
   libboost-program-options-dev libboost-graph-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev

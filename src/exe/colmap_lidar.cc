@@ -1,6 +1,7 @@
 // The colmap-lidar executable: `colmap-lidar <command> [--option value ...]`.
 // main() dispatches argv[1] through the table of commands.h; one try/catch
 // turns any exception into "ERROR: <message>" on stderr and exit code 1.
+// Under mpirun / srun only the commands marked distributed run.
 #include <algorithm>
 #include <cstdlib>
 #include <exception>
@@ -11,6 +12,7 @@
 
 #include "colmap_ext/runner/colmap_runner.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/process_group.h"
 #include "src/exe/commands.h"
 #include "src/exe/option_manager.h"
 
@@ -99,6 +101,20 @@ int main(int argc, char** argv) {
   }
 
   try {
+    // Started by mpirun / srun: only the per-image commands split their
+    // work; any other would run N times on the same workspace.
+    const colmap_lidar::ProcessGroup& group =
+        colmap_lidar::ProcessGroup::World();
+    if (group.Distributed() && !command->distributed) {
+      if (group.IsRoot()) {
+        std::cerr << "ERROR: " << name << " runs in one process, not on "
+                  << group.Size()
+                  << " MPI ranks; under mpirun or srun run line_extractor or "
+                     "lidar_patch_match_stereo (docs/scale.md)."
+                  << std::endl;
+      }
+      return EXIT_FAILURE;
+    }
     return command->run(argc - 1, argv + 1);
   } catch (const colmap_lidar::Error& error) {
     std::cerr << "ERROR: " << error.what() << std::endl;

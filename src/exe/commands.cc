@@ -31,7 +31,8 @@ const std::vector<Command>& Commands() {
       {"real_data_evaluator", &RunRealDataEvaluator,
        "Figures without ground truth: LIDAR map crispness, odometry, mesh."},
       {"line_extractor", &RunLineExtractor,
-       "Detect 3D line segments per image from the image and its LIDAR scan."},
+       "Detect 3D line segments per image from the image and its LIDAR scan.",
+       /*distributed=*/true},
       {"line_matcher", &RunLineMatcher,
        "Associate 3D line segments across views into line tracks (CLEAR)."},
       {"line_exporter", &RunLineExporter,
@@ -41,9 +42,11 @@ const std::vector<Command>& Commands() {
       {"lidar_mapper", &RunLidarMapperCommand,
        "Camera + LIDAR SfM: features, lines, association, adjustment loop."},
       {"lidar_fuser", &RunLidarFuserCommand,
-       "Fuse all registered LIDAR scans into a voxel cloud in the dense workspace."},
+       "Fuse all registered LIDAR scans into a voxel cloud in the dense "
+       "workspace."},
       {"lidar_patch_match_stereo", &RunLidarPatchMatchStereoCommand,
-       "LIDAR-initialised PatchMatch stereo writing COLMAP depth/normal maps."},
+       "LIDAR-initialised PatchMatch stereo writing COLMAP depth/normal maps.",
+       /*distributed=*/true},
       {"lidar_delaunay_mesher", &RunLidarDelaunayMesher,
        "Delaunay + graph-cut mesh of fused visual, LIDAR and line points."},
   };

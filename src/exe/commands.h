@@ -22,6 +22,10 @@ struct Command {
   int (*run)(int argc, char** argv);
   // One line, shown by `colmap-lidar help`.
   const char* description;
+  // The command splits its work over the ranks of an mpirun / srun job
+  // (colmap_ext/util/process_group.h); the others refuse to run on more
+  // than one rank.
+  bool distributed = false;
 };
 
 // All commands, in the order `colmap-lidar help` lists them.

@@ -7,6 +7,7 @@
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/process_group.h"
 #include "colmap_ext/util/string.h"
 #include "src/exe/commands.h"
 #include "src/exe/option_manager.h"
@@ -318,7 +319,10 @@ int RunLineExtractor(int argc, char** argv) {
   }
   const WorkspaceLineExtractionSummary summary = ExtractWorkspaceLines(
       database_path, image_path, image_names, extraction_options, debug_path);
-  std::cout << summary.Format() << std::endl;
+  // Under mpirun rank 0 has every rank's images in its summary.
+  if (ProcessGroup::World().IsRoot()) {
+    std::cout << summary.Format() << std::endl;
+  }
   return EXIT_SUCCESS;
 }
 

@@ -7,6 +7,7 @@
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/process_group.h"
 #include "src/exe/commands.h"
 #include "src/exe/option_manager.h"
 #include "src/exe/option_sections.h"
@@ -260,6 +261,10 @@ int RunLidarPatchMatchStereoCommand(int argc, char** argv) {
   }
   const LidarPatchMatchSummary summary =
       RunLidarPatchMatchStereo(workspace_path, patch_match_options);
+  // Under mpirun the counts are every rank's; rank 0 prints them.
+  if (!ProcessGroup::World().IsRoot()) {
+    return EXIT_SUCCESS;
+  }
   std::cout << "PatchMatch: " << summary.num_references << " images, "
             << summary.num_photometric_computed << " photometric ("
             << summary.num_photometric_skipped << " skipped), "

@@ -94,6 +94,7 @@ ViewLines ExtractViewLines(const cv::Mat& image, const LidarScan& scan,
     result.range_noise_m =
         EstimateRangeNoise({scan}, RangeNoiseOptions()).sigma_m;
   }
+  result.timings.noise_ms = timer.Lap();
   EdgeAssociationOptions association = options.association;
   association.texture.range_noise_m = result.range_noise_m;
 

@@ -42,13 +42,15 @@ struct LineExtractionTimings {
   double lsd_ms = 0.0;
   double edges_ms = 0.0;
   double projection_ms = 0.0;
+  // The scan's range noise (EstimateRangeNoise), when estimated.
+  double noise_ms = 0.0;
   double association_ms = 0.0;
   double planes_ms = 0.0;
   double fusion_ms = 0.0;
   double descriptor_ms = 0.0;
   double TotalMs() const {
-    return lsd_ms + edges_ms + projection_ms + association_ms + planes_ms +
-           fusion_ms + descriptor_ms;
+    return lsd_ms + edges_ms + projection_ms + noise_ms + association_ms +
+           planes_ms + fusion_ms + descriptor_ms;
   }
 };
 

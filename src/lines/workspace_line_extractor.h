@@ -1,7 +1,11 @@
 // The line_extractor stage over a COLMAP workspace: for every image with a
 // LIDAR scan (ext_lidar_scans), runs ExtractViewLines and stores the result
 // in ext_line_segments (replacing that image's rows), in parallel over
-// images, with one progress line per image and a summary.
+// images, with one progress line per image and a summary. Under mpirun /
+// srun (colmap_ext/util/process_group.h) the images are split over the
+// ranks; rank 0 alone opens the database, sends the others their jobs and
+// writes their segments with its own, all in one transaction, and its
+// summary counts every rank's images (the others' count their own).
 #pragma once
 
 #include <cstdint>

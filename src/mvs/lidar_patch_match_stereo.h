@@ -8,7 +8,10 @@
 //   .geometric.bin pair (geometric pass + consistency filter),
 // so that stock `colmap stereo_fusion` fuses them (input_type photometric
 // or geometric). Maps that exist already are skipped unless overwrite is
-// set (resumable); every file is written atomically.
+// set (resumable); every file is written atomically. Under mpirun / srun
+// (colmap_ext/util/process_group.h) each rank computes every Size()-th
+// reference of each pass, the ranks meet between the passes, and the maps
+// are byte for byte those of one process.
 //
 // With filter_lidar_as_view, a geometric map also keeps the pixels that one
 // source view and the LIDAR confirm (rather than two source views), and with
@@ -72,6 +75,7 @@ ReferenceInit InitializeReference(
 // within 5 cm.)
 std::vector<float> DensePriorDepth(const PlaneMap& interpolated);
 
+// Under MPI the counts are every rank's, on every rank.
 struct LidarPatchMatchSummary {
   int num_references = 0;
   int num_photometric_computed = 0;
