@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -215,6 +217,84 @@ TEST(FreeSpaceFilter, OneScanOrDisabledDropsNothing) {
   scans.resize(1);
   EXPECT_FALSE(FindMovingVoxels(centroids, hits, scans, 0.05, 0.5, 80.0,
                                 FreeSpaceFilterOptions())[0]);
+}
+
+// A scan that returns from a sphere of `radius` around its origin (every
+// direction of 16 rings over [-15, 15] deg, one return every 0.2 deg).
+LidarScan SphereScan(double radius) {
+  LidarScan scan;
+  for (int ring = 0; ring < 16; ++ring) {
+    const double elevation = (-15.0 + 2.0 * ring) * M_PI / 180.0;
+    for (int step = 0; step < 1800; ++step) {
+      const double azimuth = step * 0.2 * M_PI / 180.0;
+      scan.points.push_back(
+          (radius * Eigen::Vector3d(std::cos(elevation) * std::cos(azimuth),
+                                    std::cos(elevation) * std::sin(azimuth),
+                                    std::sin(elevation)))
+              .cast<float>());
+      scan.rings.push_back(static_cast<uint16_t>(ring));
+    }
+  }
+  return scan;
+}
+
+TEST(FreeSpaceFilter, EveryScanWithinRangeDecidesOnALongRecording) {
+  // 60 scans over a 400 m x 80 m area, 2000 empty voxels among them: a scan
+  // sees through a voxel exactly when the voxel lies within [min_range,
+  // max_range] of it and more than the margin before its sphere. The filter
+  // only tests the scans whose origin is near the voxel (a grid of 21 m
+  // cells here); none that decides may be left out, wherever the voxel lies
+  // in its cell.
+  const double radius = 19.9;
+  const double min_range = 0.5;
+  const double max_range = 20.0;
+  const double voxel_size = 0.05;
+  const double margin = FreeSpaceFilterOptions().margin_voxels * voxel_size;
+  const LidarScan sphere = SphereScan(radius);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> x(-200.0, 200.0);
+  std::uniform_real_distribution<double> y(-40.0, 40.0);
+  std::vector<Eigen::Vector3d> origins;
+  std::vector<FreeSpaceScan> scans;
+  for (int k = 0; k < 60; ++k) {
+    origins.emplace_back(x(rng), y(rng), 0.0);
+  }
+  for (const Eigen::Vector3d& origin : origins) {
+    scans.push_back({&sphere, At(origin)});
+  }
+  std::vector<Eigen::Vector3d> centroids;
+  std::vector<int> expected_counts;
+  while (centroids.size() < 2000) {
+    const Eigen::Vector3d c(x(rng), y(rng), 0.0);
+    int count = 0;
+    bool borderline = false;
+    for (const Eigen::Vector3d& origin : origins) {
+      const double d = (c - origin).norm();
+      borderline |= std::abs(d - min_range) < 0.01 ||
+                    std::abs(d - (radius - margin)) < 0.01;
+      count += d >= min_range && d < radius - margin;
+    }
+    if (borderline) continue;
+    centroids.push_back(c);
+    expected_counts.push_back(count);
+  }
+  const std::vector<std::vector<uint32_t>> hits(centroids.size());
+  for (const int min_frames : {1, 2, 3}) {
+    FreeSpaceFilterOptions options;
+    options.min_see_through_frames = min_frames;
+    const std::vector<bool> moving = FindMovingVoxels(
+        centroids, hits, scans, voxel_size, min_range, max_range, options);
+    int num_moving = 0;
+    for (size_t v = 0; v < centroids.size(); ++v) {
+      EXPECT_EQ(moving[v], expected_counts[v] >= min_frames)
+          << "voxel " << centroids[v].transpose() << ", " << expected_counts[v]
+          << " scans within range, min " << min_frames;
+      num_moving += moving[v];
+    }
+    // Neither all nor none: the counts straddle the thresholds.
+    EXPECT_GT(num_moving, 100);
+    EXPECT_LT(num_moving, 1900);
+  }
 }
 
 TEST(FreeSpaceFilter, BadOptionsAndInputsThrow) {
