@@ -295,10 +295,13 @@ TEST(InterruptedRuns, KilledInEveryStageResumesToTheSameResult) {
   const std::string reference_log = JoinPaths(dir, "reference.log");
   for (size_t s = 0; s < kStages.size(); ++s) {
     const std::string& stage = kStages[s];
-    // The workspace before `stage`.
+    // The workspace before `stage`, and a snapshot of it for the retries.
+    const std::string before = JoinPaths(dir, "before");
     fs::remove_all(copy);
+    fs::remove_all(before);
     if (ExistsDir(reference)) {
       fs::copy(reference, copy, fs::copy_options::recursive);
+      fs::copy(reference, before, fs::copy_options::recursive);
     }
     ASSERT_EQ(RunToEnd(PipelineArguments(reference, stage), reference_log), 0)
         << stage << ": the uninterrupted run failed; see " << reference_log;
@@ -306,16 +309,18 @@ TEST(InterruptedRuns, KilledInEveryStageResumesToTheSameResult) {
     ASSERT_GT(stage_seconds, 0.0) << stage;
 
     // Killed inside the stage; a kill that comes after the stage ended is
-    // retried on a fresh copy with a shorter delay.
+    // retried on a fresh copy of the workspace before the stage (not of
+    // the reference, which holds the stage's outputs: resumed from them,
+    // the stage ends at once and every retry comes too late; a reference
+    // run slowed by other tests made that happen) with a shorter delay.
     const std::string log = JoinPaths(dir, stage + ".log");
     bool killed_inside = false;
     double max_fraction = 0.75;
     for (int attempt = 0; attempt < 4 && !killed_inside; ++attempt) {
       if (attempt > 0) {
         fs::remove_all(copy);
-        fs::copy(reference, copy, fs::copy_options::recursive);
-        for (size_t later = s; later < kStages.size(); ++later) {
-          fs::remove(MarkPath(copy, kStages[later]));
+        if (ExistsDir(before)) {
+          fs::copy(before, copy, fs::copy_options::recursive);
         }
         max_fraction *= 0.3;
       }

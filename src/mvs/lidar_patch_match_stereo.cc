@@ -372,18 +372,20 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
         ++*num_skipped;
         continue;
       }
+      // The image's time counts its views' loading.
+      const auto image_start = std::chrono::steady_clock::now();
       std::vector<int> needed = job.srcs;
       needed.push_back(job.ref_idx);
       cache.Retain(needed);
-      compute(j, job, image, cache.View(job.ref_idx));
+      compute(j, job, image, cache.View(job.ref_idx), image_start);
     }
   };
   // Photometric pass.
   RunPassOnAllRanks(group, "PatchMatch, photometric pass", [&] {
     for_each_reference(
         DenseMapType::kPhotometric, &summary.num_photometric_skipped,
-        [&](size_t j, const Job& job, const Image& image, const MvsView& ref) {
-          const auto image_start = std::chrono::steady_clock::now();
+        [&](size_t j, const Job& job, const Image& image, const MvsView& ref,
+            std::chrono::steady_clock::time_point image_start) {
           std::vector<const MvsView*> srcs;
           for (int s : job.srcs) srcs.push_back(&cache.View(s));
           ReferenceInit init = InitializeReference(
@@ -428,9 +430,8 @@ LidarPatchMatchSummary RunLidarPatchMatchStereo(
     RunPassOnAllRanks(group, "PatchMatch, geometric pass", [&] {
       for_each_reference(
           DenseMapType::kGeometric, &summary.num_geometric_skipped,
-          [&](size_t j, const Job& job, const Image& image,
-              const MvsView& ref) {
-            const auto image_start = std::chrono::steady_clock::now();
+          [&](size_t j, const Job& job, const Image& image, const MvsView& ref,
+              std::chrono::steady_clock::time_point image_start) {
             // Only sources with photometric maps can confirm a depth (e.g. when
             // the references are a subset of the images and a source is none).
             std::vector<const MvsView*> srcs;
