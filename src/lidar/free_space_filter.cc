@@ -10,6 +10,7 @@
 
 #include <glog/logging.h>
 
+#include "colmap_ext/util/cell_key.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
 #include "src/lidar/ring_estimation.h"
@@ -71,9 +72,7 @@ class ScanOriginGrid {
     return (p / reach_).array().floor().cast<int>();
   }
   static int64_t Key(const Eigen::Vector3i& c) {
-    return (static_cast<int64_t>(c.x() & 0x1FFFFF) << 42) |
-           (static_cast<int64_t>(c.y() & 0x1FFFFF) << 21) |
-           static_cast<int64_t>(c.z() & 0x1FFFFF);
+    return PackCellKey(c.x(), c.y(), c.z());
   }
 
   double reach_;

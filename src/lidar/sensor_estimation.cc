@@ -6,6 +6,8 @@
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
+
+#include "colmap_ext/util/cell_key.h"
 #include "colmap_ext/util/logging.h"
 
 namespace colmap_lidar {
@@ -31,14 +33,11 @@ RangeNoiseEstimate EstimateRangeNoise(const std::vector<LidarScan>& scans,
     auto cell = [size](float v) {
       return static_cast<int64_t>(std::floor(v / size));
     };
-    auto key_of = [](int64_t x, int64_t y, int64_t z) {
-      return ((x & 0x1FFFFF) << 42) | ((y & 0x1FFFFF) << 21) | (z & 0x1FFFFF);
-    };
     std::unordered_map<int64_t, std::vector<int>> voxels;
     for (size_t i = 0; i < scan.points.size(); ++i) {
       const Eigen::Vector3f& p = scan.points[i];
       if (!p.allFinite()) continue;
-      voxels[key_of(cell(p.x()), cell(p.y()), cell(p.z()))].push_back(
+      voxels[PackCellKey(cell(p.x()), cell(p.y()), cell(p.z()))].push_back(
           static_cast<int>(i));
     }
     for (const auto& [voxel_key, voxel_indices] : voxels) {
@@ -56,9 +55,8 @@ RangeNoiseEstimate EstimateRangeNoise(const std::vector<LidarScan>& scans,
       for (int dx = -1; dx <= 1; ++dx) {
         for (int dy = -1; dy <= 1; ++dy) {
           for (int dz = -1; dz <= 1; ++dz) {
-            const auto it = voxels.find(key_of(cell(p0.x()) + dx,
-                                               cell(p0.y()) + dy,
-                                               cell(p0.z()) + dz));
+            const auto it = voxels.find(PackCellKey(
+                cell(p0.x()) + dx, cell(p0.y()) + dy, cell(p0.z()) + dz));
             if (it == voxels.end()) continue;
             for (int i : it->second) {
               const Eigen::Vector3d p = scan.points[i].cast<double>();

@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "colmap_ext/util/cell_key.h"
 #include "colmap_ext/util/logging.h"
 #include "src/lidar/ring_estimation.h"
 
@@ -331,9 +332,6 @@ std::vector<int> DetectLidarEdgesPca(const LidarScan& scan,
                                      const LidarEdgeOptions& options) {
   const double radius = options.pca_radius;
   const double inv_cell = 1.0 / radius;
-  auto key_of = [inv_cell](int64_t x, int64_t y, int64_t z) {
-    return ((x & 0x1FFFFF) << 42) | ((y & 0x1FFFFF) << 21) | (z & 0x1FFFFF);
-  };
   std::unordered_map<int64_t, std::vector<int>> grid;
   std::vector<Eigen::Vector3i> cells(scan.points.size());
   for (size_t i = 0; i < scan.points.size(); ++i) {
@@ -341,7 +339,7 @@ std::vector<int> DetectLidarEdgesPca(const LidarScan& scan,
     cells[i] = Eigen::Vector3i(static_cast<int>(std::floor(p.x() * inv_cell)),
                                static_cast<int>(std::floor(p.y() * inv_cell)),
                                static_cast<int>(std::floor(p.z() * inv_cell)));
-    grid[key_of(cells[i].x(), cells[i].y(), cells[i].z())].push_back(
+    grid[PackCellKey(cells[i].x(), cells[i].y(), cells[i].z())].push_back(
         static_cast<int>(i));
   }
   std::vector<int> edges;
@@ -358,9 +356,8 @@ std::vector<int> DetectLidarEdgesPca(const LidarScan& scan,
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = grid.find(key_of(cells[i].x() + dx,
-                                           cells[i].y() + dy,
-                                           cells[i].z() + dz));
+          const auto it = grid.find(PackCellKey(
+              cells[i].x() + dx, cells[i].y() + dy, cells[i].z() + dz));
           if (it == grid.end()) {
             continue;
           }
