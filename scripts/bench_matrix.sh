@@ -30,7 +30,9 @@
 #   cells       default: every cell of the cells file
 #   runs        runs of the same commit per cell (default 1; 3 for headline
 #               figures: the worst of 3)
-#   num_frames  frames per synthetic cell (default 30)
+#   num_frames  frames per synthetic cell (default 20, as every documented
+#               round since 2026-11-26; a cell's dataset, once synthesized,
+#               is reused whatever this says)
 #   kitti       a KITTI raw recording (default: none, the kitti cell is
 #               skipped; the tests use the sample in ../shared/data)
 #   run_options options given to every automatic_reconstructor run (an A/B
@@ -43,7 +45,7 @@ WORK=bench_work/matrix
 CELLS=""
 CELLS_FILE="${ROOT}/scripts/matrix_cells.txt"
 RUNS=1
-NUM_FRAMES=30
+NUM_FRAMES=20
 KITTI=""
 EXTRA_RUN_OPTIONS=""
 WRITE=1
@@ -57,7 +59,7 @@ while [[ $# -gt 0 ]]; do
     --kitti) KITTI=$2; shift 2 ;;
     --run_options) EXTRA_RUN_OPTIONS=$2; shift 2 ;;
     --no-write) WRITE=0; shift ;;
-    -h|--help) sed -n '2,35p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,39p' "$0"; exit 0 ;;
     *) echo "bench_matrix: unknown argument $1" >&2; exit 2 ;;
   esac
 done
