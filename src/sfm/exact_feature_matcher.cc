@@ -13,6 +13,7 @@
 
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
+#include "src/sfm/descriptor_dots.h"
 
 namespace colmap_lidar {
 namespace {
@@ -68,7 +69,7 @@ TwoViewGeometry Verify(const ImageFeatures& features1,
   const cv::Mat E_stack = cv::findEssentialMat(
       points1, points2, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC,
       options.confidence, options.max_error_px / focal,
-      options.max_num_trials, inlier_mask);
+      VerificationTrials(options), inlier_mask);
   if (E_stack.rows < 3 || inlier_mask.empty()) return geometry;
   int num_inliers = 0;
   for (int i = 0; i < num_matches; ++i) {
@@ -119,6 +120,18 @@ bool ExactMatchingOptions::Check() const {
   return ok;
 }
 
+int VerificationTrials(const ExactMatchingOptions& options) {
+  // Samples of 5 matches, all inliers with probability ratio^5.
+  const double all_inliers = std::pow(options.min_inlier_ratio, 5.0);
+  if (!(all_inliers > 0.0) || all_inliers >= 1.0) {
+    return options.max_num_trials;
+  }
+  const double trials =
+      std::ceil(std::log(1.0 - options.confidence) / std::log1p(-all_inliers));
+  return static_cast<int>(
+      std::min(static_cast<double>(options.max_num_trials), trials));
+}
+
 FeatureMatchesBlob MatchDescriptors(const FeatureDescriptorsBlob& descriptors1,
                                     const FeatureDescriptorsBlob& descriptors2,
                                     const ExactMatchingOptions& options) {
@@ -128,22 +141,29 @@ FeatureMatchesBlob MatchDescriptors(const FeatureDescriptorsBlob& descriptors1,
   THROW_CHECK(descriptors1.cols() == descriptors2.cols(),
               "descriptors of " << descriptors1.cols() << " and "
                                 << descriptors2.cols() << " dimensions");
-  const Eigen::MatrixXf d1 = descriptors1.cast<float>();
+  using RowMajorXf =
+      Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int dims = static_cast<int>(descriptors1.cols());
+  const RowMajorXf d1 = descriptors1.cast<float>();
   const Eigen::MatrixXf d2_t = descriptors2.cast<float>().transpose();
   // Integer dot products below 2^24 are exact in float whatever the order
-  // of the sums: the results do not depend on the BLAS kernel.
+  // of the sums: the results do not depend on the CPU's path
+  // (descriptor_dots.h).
   std::vector<int> best2(n1, -1);
   std::vector<float> best_dot1(n1, -1.0f);
   std::vector<float> second_dot1(n1, -1.0f);
   std::vector<int> best1_of2(n2, -1);
   std::vector<float> best_dot2(n2, -1.0f);
+  std::vector<float> dots(static_cast<size_t>(std::min(kRowBlock, n1)) * n2);
   for (int begin = 0; begin < n1; begin += kRowBlock) {
     const int rows = std::min(kRowBlock, n1 - begin);
-    const Eigen::MatrixXf dots = d1.middleRows(begin, rows) * d2_t;
+    DescriptorDots(d1.data() + static_cast<size_t>(begin) * dims, rows,
+                   d2_t.data(), n2, dims, dots.data());
     for (int r = 0; r < rows; ++r) {
       const int i = begin + r;
+      const float* row = dots.data() + static_cast<size_t>(r) * n2;
       for (int j = 0; j < n2; ++j) {
-        const float dot = dots(r, j);
+        const float dot = row[j];
         if (dot > best_dot1[i]) {
           second_dot1[i] = best_dot1[i];
           best_dot1[i] = dot;
@@ -257,7 +277,9 @@ ExactMatchingSummary RunExactMatching(
   }
   LOG(INFO) << "exact matching: " << todo.size() << " pairs of "
             << features.size() << " images (" << summary.num_pairs_skipped
-            << " pairs matched before, left as they are)";
+            << " pairs matched before, left as they are; dot products on the "
+            << DescriptorDotsPath() << " path, verification in at most "
+            << VerificationTrials(options) << " RANSAC trials)";
 
   std::vector<PairResult> results(todo.size());
   std::atomic<int> num_done(0);

@@ -27,6 +27,21 @@ Eigen::Matrix<uint8_t, 1, 128> RandomDescriptor(std::mt19937* rng) {
   return values.array().round().min(255.0f).cast<uint8_t>();
 }
 
+// Fischler and Bolles' count for the smallest ratio a pair may pass with,
+// never above max_num_trials; no ratio asked: max_num_trials.
+TEST(ExactFeatureMatcher, VerificationTrialsFollowTheRatioAPairNeeds) {
+  ExactMatchingOptions options;  // confidence 0.999, ratio 0.25, 10,000
+  EXPECT_EQ(VerificationTrials(options), 7071);
+  options.min_inlier_ratio = 0.5;
+  EXPECT_EQ(VerificationTrials(options), 218);
+  options.min_inlier_ratio = 0.2;  // 21,583 > 10,000
+  EXPECT_EQ(VerificationTrials(options), 10000);
+  options.min_inlier_ratio = 0.0;
+  EXPECT_EQ(VerificationTrials(options), 10000);
+  options.min_inlier_ratio = 1.0;
+  EXPECT_EQ(VerificationTrials(options), 10000);
+}
+
 // Image 2 holds noisy copies of image 1's descriptors 0..29 in reverse
 // order, an exact duplicate pair of descriptor 30 (ambiguous: the ratio
 // test must drop it) and unrelated descriptors.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
@@ -13,6 +14,7 @@
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/parallel.h"
 #include "colmap_ext/util/resource_usage.h"
 #include "src/lidar/gicp_helpers.h"
 #include "src/lidar/scan_io.h"
@@ -219,7 +221,9 @@ LidarPoseGraphResult SolveLidarPoseGraph(
   // a 600-frame graph registers for minutes).
   int num_registrations = 0;
   auto last_progress = std::chrono::steady_clock::now();
+  std::mutex progress_mutex;  // loop edges register in parallel
   const auto log_progress = [&](int frame, bool loops) {
+    const std::lock_guard<std::mutex> lock(progress_mutex);
     ++num_registrations;
     if (SecondsSince(last_progress) >= 20.0) {
       last_progress = std::chrono::steady_clock::now();
@@ -311,6 +315,12 @@ LidarPoseGraphResult SolveLidarPoseGraph(
   // Loop candidates.
   if ((options.loop_radius_m > 0.0 && options.max_loop_candidates_per_frame > 0) ||
       options.skip_one_candidates) {
+    struct LoopTask {
+      int i = 0;
+      int j = 0;
+      std::vector<Rigid3d> guesses;
+    };
+    std::vector<LoopTask> loop_tasks;
     for (int i = 0; i < n; ++i) {
       std::vector<std::pair<double, int>> candidates;
       for (int j = i + 2; j < n; ++j) {
@@ -334,22 +344,38 @@ LidarPoseGraphResult SolveLidarPoseGraph(
         candidates.emplace_back(0.0, i + 2);
       }
       for (const auto& [distance, j] : candidates) {
-        std::vector<Rigid3d> guesses = {prior_relative(i, j)};
+        LoopTask task;
+        task.i = i;
+        task.j = j;
+        task.guesses = {prior_relative(i, j)};
         Rigid3d chained;
         if (chain_of_consecutive(i, j, &chained)) {
-          guesses.push_back(chained);
+          task.guesses.push_back(chained);
         }
-        LidarPoseGraphEdge edge = register_edge(i, j, /*loop=*/true, guesses);
-        // A skip-one loop spans two steps of the same walk: the consecutive
-        // edges' noise-floor gate applies to it as to them.
-        if (!edge.used && j == i + 2 && passes_gates_but_rmse(edge, true) &&
-            edge.registration.rmse_m <= options.consecutive_rmse_over_median *
-                                            consecutive_noise_floor_m) {
-          edge.used = true;
-          edge.relaxed_loop = true;
-        }
-        result.edges.push_back(edge);
+        loop_tasks.push_back(std::move(task));
       }
+    }
+    // The loop registrations depend on the consecutive edges only: they run
+    // in parallel (each with the same registration options, so the same
+    // edges as one after the other) and join the graph in candidate order.
+    std::vector<LidarPoseGraphEdge> loop_edges(loop_tasks.size());
+    ParallelFor(0, static_cast<int>(loop_tasks.size()), options.num_threads,
+                [&](int t) {
+                  const LoopTask& task = loop_tasks[t];
+                  loop_edges[t] = register_edge(task.i, task.j,
+                                                /*loop=*/true, task.guesses);
+                });
+    for (LidarPoseGraphEdge& edge : loop_edges) {
+      // A skip-one loop spans two steps of the same walk: the consecutive
+      // edges' noise-floor gate applies to it as to them.
+      if (!edge.used && edge.j == edge.i + 2 &&
+          passes_gates_but_rmse(edge, true) &&
+          edge.registration.rmse_m <= options.consecutive_rmse_over_median *
+                                          consecutive_noise_floor_m) {
+        edge.used = true;
+        edge.relaxed_loop = true;
+      }
+      result.edges.push_back(std::move(edge));
     }
   }
   result.registration_seconds = SecondsSince(registration_start);

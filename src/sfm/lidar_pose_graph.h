@@ -109,7 +109,8 @@ struct LidarPoseGraphOptions {
   LidarEdgeNoiseOptions edge_noise;
   // Levenberg-Marquardt iterations at most, >= 1.
   int max_num_iterations = 100;
-  // Threads for the registrations' covariances / correspondences and
+  // Threads for the registrations' covariances / correspondences, for the
+  // loop registrations side by side (the same edges whatever the order) and
   // Ceres; <= 0: all cores.
   int num_threads = -1;
 

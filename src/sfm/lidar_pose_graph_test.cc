@@ -217,6 +217,43 @@ TEST(LidarPoseGraph, RecoversRelativePosesFromNoisyPriors) {
   }
 }
 
+// The loop registrations run in parallel: two solves give the same edges,
+// bit for bit, in candidate order (frame i ascending), and the same poses.
+TEST(LidarPoseGraph, ParallelLoopRegistrationsRepeatInOrder) {
+  const int n = 7;
+  const std::unique_ptr<Sequence> sequence = MakeSequence(n, 11);
+  LidarPoseGraphOptions options;
+  options.num_threads = 2;
+  const LidarPoseGraphResult first =
+      SolveLidarPoseGraph(sequence->frames, options);
+  const LidarPoseGraphResult second =
+      SolveLidarPoseGraph(sequence->frames, options);
+  ASSERT_EQ(first.edges.size(), second.edges.size());
+  int num_loops = 0;
+  int previous_i = -1;
+  for (size_t e = 0; e < first.edges.size(); ++e) {
+    const LidarPoseGraphEdge& a = first.edges[e];
+    const LidarPoseGraphEdge& b = second.edges[e];
+    EXPECT_EQ(a.i, b.i);
+    EXPECT_EQ(a.j, b.j);
+    EXPECT_EQ(a.used, b.used);
+    EXPECT_EQ(a.registration.target_from_source.ToMatrix(),
+              b.registration.target_from_source.ToMatrix());
+    EXPECT_EQ(a.registration.hessian, b.registration.hessian);
+    EXPECT_EQ(a.information, b.information);
+    if (a.loop) {
+      ++num_loops;
+      EXPECT_GE(a.i, previous_i);
+      previous_i = a.i;
+    }
+  }
+  EXPECT_GE(num_loops, 4);  // enough loops to run side by side
+  for (int k = 0; k < n; ++k) {
+    EXPECT_EQ(first.world_from_cam[k].ToMatrix(),
+              second.world_from_cam[k].ToMatrix());
+  }
+}
+
 TEST(LidarPoseGraph, EdgeNoiseOffUsesTheRegistrationInformation) {
   const int n = 6;
   const std::unique_ptr<Sequence> sequence = MakeSequence(n, 7);
