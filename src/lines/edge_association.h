@@ -74,8 +74,15 @@ struct EdgeAssociationOptions {
   double max_reprojection_angle_deg = 3.0;
   double max_reprojection_distance_px = 4.0;
   // Endpoint back-projection: minimum angle between the viewing ray and the
-  // 3D line, degrees.
-  double min_ray_line_angle_deg = 5.0;
+  // 3D line, degrees (also the plane lifting's limit for a plane seen
+  // edge-on). 3 rather than 5: the wall/ground creases of a corridor and a
+  // street run along the view; on 5 cells (corridor VLP-16 and OS1-64,
+  // street_bent, street HDL-32E, quad OS1-64; ground-truth poses,
+  // scripts/bench_lines.sh) 3 deg added segments on four cells and crease
+  // recall on three and changed nothing on the quad; the share of segments
+  // within 5 cm of a crease rose on three and fell by 0.2 points on the
+  // corridor OS1-64 (docs/benchmarks/lines.md, seventh round).
+  double min_ray_line_angle_deg = 3.0;
   // 3D endpoints must be within this range of the camera, metres.
   double max_endpoint_range = 120.0;
   TextureRejectionOptions texture;
