@@ -12,8 +12,9 @@
 // visibility) so that its Eigen instantiations, compiled for another ISA
 // and another alignment, never replace the rest of the program's: one
 // translation unit built with -march=x86-64-v3 inside the same binary made
-// the matcher throw std::bad_alloc. It is called only when the CPU reports
-// AVX2 and FMA.
+// the matcher throw std::bad_alloc. It is loaded with dlopen on first use,
+// only when the CPU reports AVX2 and FMA; where it cannot be loaded the
+// portable path runs (one warning), so no command needs it to start.
 //
 // The result does not depend on the path: COLMAP's descriptors are integers
 // in [0, 255], so every product and partial sum is an integer below 2^24

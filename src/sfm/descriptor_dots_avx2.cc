@@ -1,7 +1,7 @@
 // Compiled with -mavx2 -mfma and hidden visibility into a shared library of
-// its own (src/sfm/CMakeLists.txt): see descriptor_dots.h for why. Include
-// nothing here that runs code at load time (no <iostream>): the library is
-// loaded on every CPU, also those that cannot run its instructions.
+// its own (src/sfm/CMakeLists.txt), which descriptor_dots.cc loads only on a
+// CPU with AVX2 and FMA: see descriptor_dots.h for why. Include nothing here
+// that runs code at load time (no <iostream>).
 #include "src/sfm/descriptor_dots_avx2.h"
 
 #include <Eigen/Core>

@@ -1,5 +1,6 @@
 // The AVX2 + FMA build of DescriptorDots (descriptor_dots.h), exported from
-// its own shared library; call it only when the CPU has AVX2 and FMA.
+// its own shared library, which descriptor_dots.cc loads with dlopen and
+// calls only when the CPU has AVX2 and FMA.
 #pragma once
 
 extern "C" {

@@ -82,6 +82,17 @@ TEST(DescriptorDots, BothPathsGiveTheExactIntegerProducts) {
   }
 }
 
+// On a CPU with AVX2 and FMA the kernel's library loads (from the build
+// tree): a broken build or load path would otherwise fall back silently.
+TEST(DescriptorDots, TheAvx2KernelLoadsWhereTheCpuHasIt) {
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    EXPECT_STREQ(DescriptorDotsPath(), "avx2");
+  } else {
+    EXPECT_STREQ(DescriptorDotsPath(), "portable");
+  }
+}
+
 TEST(DescriptorDots, EmptyInputsWriteNothing) {
   std::vector<float> dots(4, -1.0f);
   const std::vector<float> rows1(128, 1.0f);
