@@ -2,10 +2,10 @@
 
 #include <dlfcn.h>
 
-#include <Eigen/Core>
 #include <glog/logging.h>
 
 #include "src/sfm/descriptor_dots_avx2.h"
+#include "src/sfm/descriptor_dots_kernel.h"
 
 namespace colmap_lidar {
 namespace {
@@ -72,12 +72,8 @@ void DescriptorDotsPortable(const float* rows1, const int num_rows,
                             const float* cols2, const int num_cols,
                             const int dims, float* dots) {
   if (num_rows == 0 || num_cols == 0) return;
-  using RowMajor =
-      Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const Eigen::Map<const RowMajor> a(rows1, num_rows, dims);
-  const Eigen::Map<const Eigen::MatrixXf> b(cols2, dims, num_cols);
-  Eigen::Map<RowMajor> result(dots, num_rows, num_cols);
-  result.noalias() = a * b;
+  descriptor_dots_internal::MultiplyDescriptors(rows1, num_rows, cols2,
+                                                num_cols, dims, dots);
 }
 
 }  // namespace colmap_lidar

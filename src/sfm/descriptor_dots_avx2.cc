@@ -4,17 +4,13 @@
 // that runs code at load time (no <iostream>).
 #include "src/sfm/descriptor_dots_avx2.h"
 
-#include <Eigen/Core>
+#include "src/sfm/descriptor_dots_kernel.h"
 
 extern "C" void ColmapLidarDescriptorDotsAvx2(const float* rows1,
                                               const int num_rows,
                                               const float* cols2,
                                               const int num_cols,
                                               const int dims, float* dots) {
-  using RowMajor =
-      Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const Eigen::Map<const RowMajor> a(rows1, num_rows, dims);
-  const Eigen::Map<const Eigen::MatrixXf> b(cols2, dims, num_cols);
-  Eigen::Map<RowMajor> result(dots, num_rows, num_cols);
-  result.noalias() = a * b;
+  colmap_lidar::descriptor_dots_internal::MultiplyDescriptors(
+      rows1, num_rows, cols2, num_cols, dims, dots);
 }
