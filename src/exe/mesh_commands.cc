@@ -160,9 +160,14 @@ void AddDelaunayMeshingOptions(DelaunayMeshingOptions* meshing,
                      "Fewest surface points around a vertex for it to be "
                      "snapped, >= 1.");
   options->AddOption("DelaunayMeshing.max_memory_gb", &meshing->max_memory_gb,
-                     "Memory guard, GiB: inputs with more than max_memory_gb "
-                     "* 2^30 / 2500 points are decimated on a voxel grid. "
-                     "> 0.");
+                     "Memory budget, GiB: inputs with more than "
+                     "max_memory_gb * 2^30 / 2500 points are meshed by "
+                     "spatial tiles that fit it (a tile that still exceeds "
+                     "it is decimated on a voxel grid). > 0.");
+  options->AddOption("DelaunayMeshing.tile_margin_m", &meshing->tile_margin_m,
+                     "Meshing by tiles: points within this distance of a "
+                     "tile's core join its meshing; only the faces whose "
+                     "centroid lies in the core are kept, metres. >= 0.");
   options->AddOption("DelaunayMeshing.num_threads", &meshing->num_threads,
                      "Threads of the ray casting; <= 0 uses all cores.");
   options->AddCheck([meshing, input] {

@@ -12,6 +12,7 @@
 #include "src/mesh/graph_cut.h"
 #include "src/mesh/point_decimation.h"
 #include "src/mesh/progress_watchdog.h"
+#include "src/mesh/tiled_meshing.h"
 
 namespace colmap_lidar {
 namespace {
@@ -119,6 +120,10 @@ bool DelaunayMeshingOptions::Check() const {
     LOG(ERROR) << "DelaunayMeshing.max_memory_gb must be > 0";
     return false;
   }
+  if (!(tile_margin_m >= 0) || !std::isfinite(tile_margin_m)) {
+    LOG(ERROR) << "DelaunayMeshing.tile_margin_m must be >= 0";
+    return false;
+  }
   return true;
 }
 
@@ -135,6 +140,7 @@ DelaunayTriangulationOptions DelaunayMeshingOptions::TriangulationOptions()
   options.max_proj_dist_px = max_proj_dist_px;
   options.max_depth_dist = max_depth_dist;
   options.min_lidar_vertex_distance_m = min_lidar_vertex_distance_m;
+  options.world_grid_order = world_grid_order;
   return options;
 }
 
@@ -144,6 +150,7 @@ VisibilityIntegrationOptions DelaunayMeshingOptions::VisibilityOptions()
   options.distance_sigma_factor = distance_sigma_factor;
   options.behind_distance_factor = behind_distance_factor;
   options.max_free_space_length_factor = max_free_space_length_factor;
+  options.distance_sigma_m = distance_sigma_m;
   options.num_threads = num_threads;
   return options;
 }
@@ -152,6 +159,7 @@ MeshCleanupOptions DelaunayMeshingOptions::CleanupOptions() const {
   MeshCleanupOptions options;
   options.max_edge_length_factor = max_edge_length_factor;
   options.min_component_faces = min_component_faces;
+  options.median_edge_length_m = cleanup_median_edge_length_m;
   return options;
 }
 
@@ -362,7 +370,7 @@ DelaunayMeshingSummary MeshDenseWorkspace(
   const MeshingInput input = ReadMeshingInput(
       threaded_input_options, workspace_path, lines_model_path, database_path);
   DelaunayMeshingSummary summary;
-  const TriangleMesh mesh = DelaunayMeshing(options, input, &summary);
+  const TriangleMesh mesh = TiledDelaunayMeshing(options, input, &summary);
   WriteMeshPly(output_path, mesh);
   summary.total_seconds = timer.Seconds();
   summary.peak_memory_bytes = PeakResidentMemoryBytes();

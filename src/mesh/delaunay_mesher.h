@@ -18,9 +18,9 @@
 // vertices, 1.77M cells, 2.0M rays peaked at 558 MiB, i.e. ~2.0 kB per
 // inserted point; with the default 2 px merging 972k points -> 197k vertices
 // peaked at 548 MiB. kEstimatedBytesPerPoint (2.5 kB, no merging assumed) is
-// the guard's budget: max_memory_gb = 20 admits ~8.6M points (about 12M
-// would fit in 24 GiB at the measured rate); larger inputs are decimated on
-// a voxel grid first.
+// the budget's unit: max_memory_gb = 8 admits ~3.4M points in one piece;
+// MeshDenseWorkspace meshes larger inputs by tiles (tiled_meshing.h), and
+// DelaunayMeshing decimates them on a voxel grid first.
 #pragma once
 
 #include <string>
@@ -70,9 +70,25 @@ struct DelaunayMeshingOptions {
   // creases come with its line samples.
   bool snap_to_creases = true;
   CreaseSnappingOptions crease_snapping;
-  // Memory guard: inputs whose estimated peak exceeds this are decimated,
-  // GiB (> 0).
-  double max_memory_gb = 20.0;
+  // Memory budget, GiB (> 0): MeshDenseWorkspace meshes inputs whose
+  // estimated peak exceeds it by tiles that fit it (tiled_meshing.h);
+  // DelaunayMeshing decimates such an input (or a tile that still exceeds
+  // it) on a voxel grid. 8 GiB: a laptop's memory; the benchmark matrix's
+  // cells (at most 1.4M points) fit it whole.
+  double max_memory_gb = 8.0;
+  // Tiles: the margin around each tile's core whose points join its
+  // meshing, metres (>= 0; tiled_meshing.h): about twice the free-space
+  // carving's reach (max_free_space_length_factor sigma, 4-7 m on the
+  // benchmark scenes).
+  double tile_margin_m = 10.0;
+  // Set by TiledDelaunayMeshing for its tiles, not options of the command:
+  // insertion in a world grid's order (DelaunayTriangulationOptions), a
+  // fixed free-space sigma (VisibilityIntegrationOptions) and a fixed
+  // median edge length of the clean-up (MeshCleanupOptions), metres (0:
+  // from the tile).
+  bool world_grid_order = false;
+  double distance_sigma_m = 0;
+  double cleanup_median_edge_length_m = 0;
   // Worker threads for the ray casting; <= 0 uses all cores.
   int num_threads = -1;
 
@@ -91,6 +107,9 @@ struct DelaunayMeshingSummary {
   size_t num_points_outside_view = 0;
   // Voxel size of the memory guard's decimation; 0 if none.
   double decimation_voxel_size_m = 0;
+  // Tiles meshed (1: in one piece) and their edge, metres (0: one piece).
+  int num_tiles = 1;
+  double tile_size_m = 0;
   size_t num_vertices = 0;
   size_t num_cells = 0;
   size_t num_rays = 0;

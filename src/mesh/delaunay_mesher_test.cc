@@ -16,44 +16,6 @@
 namespace colmap_lidar {
 namespace {
 
-double Percentile(std::vector<double> values, double percent) {
-  if (values.empty()) return 0;
-  const size_t idx = std::min(values.size() - 1,
-                              static_cast<size_t>(percent / 100 * values.size()));
-  std::nth_element(values.begin(), values.begin() + idx, values.end());
-  return values[idx];
-}
-
-// Distances of points sampled on the faces (centroid and the three edge
-// midpoints) to the true surface.
-std::vector<double> FaceDistancesToSurface(const SyntheticBoxScene& scene,
-                                           const TriangleMesh& mesh) {
-  std::vector<double> distances;
-  for (const auto& face : mesh.faces) {
-    const Eigen::Vector3d& a = mesh.vertices[face[0]];
-    const Eigen::Vector3d& b = mesh.vertices[face[1]];
-    const Eigen::Vector3d& c = mesh.vertices[face[2]];
-    for (const Eigen::Vector3d& point :
-         {Eigen::Vector3d((a + b + c) / 3), Eigen::Vector3d((a + b) / 2),
-          Eigen::Vector3d((b + c) / 2), Eigen::Vector3d((a + c) / 2)}) {
-      distances.push_back(scene.DistanceToSurface(point));
-    }
-  }
-  return distances;
-}
-
-// Fraction of observed true-surface samples within `threshold` of the mesh.
-double Coverage(const SyntheticBoxScene& scene, const TriangleMesh& mesh,
-                double threshold, double spacing = 0.05) {
-  const SyntheticPoints truth = scene.SampleTrueSurface(spacing, 2);
-  const MeshDistance distance(mesh);
-  size_t num_covered = 0;
-  for (const Eigen::Vector3d& point : truth.positions) {
-    num_covered += distance.Distance(point) <= threshold ? 1 : 0;
-  }
-  return static_cast<double>(num_covered) / truth.positions.size();
-}
-
 // Boundary and non-manifold edges whose midpoint lies near the box.
 size_t NumOpenEdgesNearBox(const TriangleMesh& mesh) {
   const MeshEdgeStats stats = ComputeMeshEdgeStats(mesh);
@@ -108,7 +70,7 @@ TEST_P(BoxOnGround, IsAccurateClosedAndComplete) {
         std::max(max_vertex_distance, scene.DistanceToSurface(vertex));
   }
   EXPECT_LT(max_vertex_distance, 0.006);
-  const double coverage = Coverage(scene, mesh, 0.01);
+  const double coverage = SurfaceCoverage(scene, mesh, 0.01);
   LOG(INFO) << "Coverage at 1 cm: " << coverage;
   EXPECT_GT(coverage, 0.95);
   EXPECT_EQ(NumOpenEdgesNearBox(mesh), 0u);
@@ -188,7 +150,7 @@ TEST(DelaunayMesher, FreeSpaceCarvingRemovesOutliers) {
   }
   EXPECT_EQ(num_outliers_in_mesh, 0u);
   EXPECT_LT(Percentile(FaceDistancesToSurface(scene, mesh), 95), 0.005);
-  EXPECT_GT(Coverage(scene, mesh, 0.01), 0.95);
+  EXPECT_GT(SurfaceCoverage(scene, mesh, 0.01), 0.95);
 }
 
 TEST(DelaunayMesher, LidarOnlyInputGivesTheSurface) {
@@ -217,7 +179,7 @@ TEST(DelaunayMesher, LidarOnlyInputGivesTheSurface) {
   EXPECT_LT(Percentile(distances, 50), 0.005);
   EXPECT_LT(Percentile(distances, 95), 0.015);
   // The box is seen by the scanners from all sides.
-  const double coverage = Coverage(scene, mesh, 0.02);
+  const double coverage = SurfaceCoverage(scene, mesh, 0.02);
   LOG(INFO) << "LIDAR-only coverage at 2 cm: " << coverage;
   EXPECT_GT(coverage, 0.9);
   EXPECT_EQ(NumOpenEdgesNearBox(mesh), 0u);

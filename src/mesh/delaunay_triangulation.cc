@@ -1,6 +1,9 @@
 #include "src/mesh/delaunay_triangulation.h"
 
 #include <algorithm>
+#include <unordered_map>
+#include <cmath>
+#include <utility>
 #include <numeric>
 
 #include <CGAL/Spatial_sort_traits_adapter_3.h>
@@ -13,6 +16,39 @@ namespace colmap_lidar {
 namespace {
 
 constexpr uint32_t kNoVertex = 0xFFFFFFFFu;
+
+// Spreads the low 21 bits of `value` to every third bit.
+uint64_t SpreadBits(uint64_t value) {
+  value &= (1ull << 21) - 1;
+  value = (value | (value << 32)) & 0x1f00000000ffffull;
+  value = (value | (value << 16)) & 0x1f0000ff0000ffull;
+  value = (value | (value << 8)) & 0x100f00f00f00f00full;
+  value = (value | (value << 4)) & 0x10c30c30c30c30c3ull;
+  value = (value | (value << 2)) & 0x1249249249249249ull;
+  return value;
+}
+
+// Sorts the point indices by the Morton code of their 1 cm cell of a grid
+// fixed in the world (21 bits per axis around the origin: +-10 km), ties by
+// index.
+void SortInWorldGridOrder(const std::vector<Eigen::Vector3d>& positions,
+                          std::vector<size_t>* indices) {
+  constexpr double kCellM = 0.01;
+  std::vector<std::pair<uint64_t, size_t>> keyed;
+  keyed.reserve(indices->size());
+  for (const size_t index : *indices) {
+    uint64_t code = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double cell = std::floor(positions[index][axis] / kCellM);
+      const uint64_t biased = static_cast<uint64_t>(
+          std::clamp(cell + (1 << 20), 0.0, static_cast<double>((1 << 21) - 1)));
+      code |= SpreadBits(biased) << axis;
+    }
+    keyed.emplace_back(code, index);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (size_t i = 0; i < keyed.size(); ++i) (*indices)[i] = keyed[i].second;
+}
 
 // True when the visual point may be represented by `vertex_position`: close
 // in every observing image, in pixels and in relative depth.
@@ -95,7 +131,11 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
     const Traits traits(CGAL::make_property_map(points));
     for (std::vector<size_t>* group :
          {&line_points, &visual_points, &lidar_points}) {
-      CGAL::spatial_sort(group->begin(), group->end(), traits);
+      if (options.world_grid_order) {
+        SortInWorldGridOrder(input.positions, group);
+      } else {
+        CGAL::spatial_sort(group->begin(), group->end(), traits);
+      }
     }
   }
 
@@ -103,6 +143,22 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
                                options.min_lidar_vertex_distance_m;
   MeshCellHandle hint;
   size_t num_merged = 0;
+  // world_grid_order: the merge candidates are the vertices within a grid
+  // neighbourhood (kMergeCellM cells, the 27 around the point), not those
+  // of the enclosing cell, whose shape depends on points far away.
+  constexpr double kMergeCellM = 0.1;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> vertex_grid;
+  const auto grid_key = [](const Eigen::Vector3d& position, int dx, int dy,
+                           int dz) {
+    const auto cell = [](double value, int offset) {
+      return static_cast<uint64_t>(
+                 static_cast<int64_t>(std::floor(value / kMergeCellM)) +
+                 offset + (1 << 20)) &
+             ((1ull << 21) - 1);
+    };
+    return (cell(position.x(), dx) << 42) | (cell(position.y(), dy) << 21) |
+           cell(position.z(), dz);
+  };
   auto insert = [&](size_t point_idx) {
     const Eigen::Vector3d& position = input.positions[point_idx];
     const MeshPoint point = ToCgal(position);
@@ -116,7 +172,46 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
     int li, lj;
     const MeshCellHandle cell =
         delaunay.locate(point, locate_type, li, lj, hint);
-    if (may_merge && !delaunay.is_infinite(cell)) {
+    if (may_merge && options.world_grid_order) {
+      uint32_t nearest = kNoVertex;
+      double nearest_sq_dist = std::numeric_limits<double>::max();
+      for (int dx = -1; dx <= 1; ++dx) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dz = -1; dz <= 1; ++dz) {
+            const auto it = vertex_grid.find(grid_key(position, dx, dy, dz));
+            if (it == vertex_grid.end()) continue;
+            for (const uint32_t candidate : it->second) {
+              if (source == MeshingPointSource::kLidar &&
+                  triangulation->vertex_sources[candidate] ==
+                      MeshingPointSource::kLidar) {
+                continue;
+              }
+              const double sq_dist =
+                  (ToEigen(triangulation->vertices[candidate]->point()) -
+                   position)
+                      .squaredNorm();
+              if (sq_dist < nearest_sq_dist ||
+                  (sq_dist == nearest_sq_dist && candidate < nearest)) {
+                nearest_sq_dist = sq_dist;
+                nearest = candidate;
+              }
+            }
+          }
+        }
+      }
+      const bool merge =
+          nearest != kNoVertex &&
+          (source == MeshingPointSource::kLidar
+               ? nearest_sq_dist <= sq_lidar_dist
+               : IsCloseInImages(
+                     options, input, point_idx,
+                     ToEigen(triangulation->vertices[nearest]->point())));
+      if (merge) {
+        triangulation->point_to_vertex[point_idx] = nearest;
+        ++num_merged;
+        return;
+      }
+    } else if (may_merge && !delaunay.is_infinite(cell)) {
       // The nearest finite vertex of the enclosing cell (for a LIDAR voxel:
       // the nearest visual or line vertex).
       int nearest = -1;
@@ -156,6 +251,9 @@ void BuildMeshingTriangulation(const DelaunayTriangulationOptions& options,
       vertex->info() = static_cast<uint32_t>(triangulation->vertices.size());
       triangulation->vertices.push_back(vertex);
       triangulation->vertex_sources.push_back(source);
+      if (options.world_grid_order) {
+        vertex_grid[grid_key(position, 0, 0, 0)].push_back(vertex->info());
+      }
     } else {
       ++num_merged;  // An exact duplicate.
     }

@@ -54,6 +54,12 @@ struct DelaunayTriangulationOptions {
   // Metric distance below which a LIDAR voxel merges into a visual or line
   // vertex, metres; 0 inserts all voxels.
   double min_lidar_vertex_distance_m = 0.05;
+  // Insert each group in the order of a fixed world grid (Morton order of
+  // 1 cm cells, ties by input order) instead of CGAL's spatial sort of the
+  // input at hand: a point's merge then depends on the points near it, not
+  // on the rest of the input, and two tiles of one scene merge the points
+  // they share alike (tiled_meshing.h). Slower to insert (a coarser locality).
+  bool world_grid_order = false;
 
   bool Check() const;
 };

@@ -1,5 +1,6 @@
 #include "src/mesh/synthetic_box_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -402,6 +403,41 @@ MeshDistance::~MeshDistance() = default;
 double MeshDistance::Distance(const Eigen::Vector3d& point) const {
   return std::sqrt(impl_->tree.squared_distance(
       Impl::K::Point_3(point.x(), point.y(), point.z())));
+}
+
+double Percentile(std::vector<double> values, double percent) {
+  if (values.empty()) return 0;
+  const size_t idx = std::min(values.size() - 1,
+                              static_cast<size_t>(percent / 100 * values.size()));
+  std::nth_element(values.begin(), values.begin() + idx, values.end());
+  return values[idx];
+}
+
+std::vector<double> FaceDistancesToSurface(const SyntheticBoxScene& scene,
+                                           const TriangleMesh& mesh) {
+  std::vector<double> distances;
+  for (const auto& face : mesh.faces) {
+    const Eigen::Vector3d& a = mesh.vertices[face[0]];
+    const Eigen::Vector3d& b = mesh.vertices[face[1]];
+    const Eigen::Vector3d& c = mesh.vertices[face[2]];
+    for (const Eigen::Vector3d& point :
+         {Eigen::Vector3d((a + b + c) / 3), Eigen::Vector3d((a + b) / 2),
+          Eigen::Vector3d((b + c) / 2), Eigen::Vector3d((a + c) / 2)}) {
+      distances.push_back(scene.DistanceToSurface(point));
+    }
+  }
+  return distances;
+}
+
+double SurfaceCoverage(const SyntheticBoxScene& scene, const TriangleMesh& mesh,
+                       double threshold, double spacing) {
+  const SyntheticPoints truth = scene.SampleTrueSurface(spacing, 2);
+  const MeshDistance distance(mesh);
+  size_t num_covered = 0;
+  for (const Eigen::Vector3d& point : truth.positions) {
+    num_covered += distance.Distance(point) <= threshold ? 1 : 0;
+  }
+  return static_cast<double>(num_covered) / truth.positions.size();
 }
 
 MeshingInput MakeVisualMeshingInput(const SyntheticBoxScene& scene,

@@ -107,6 +107,18 @@ class MeshDistance {
   std::unique_ptr<Impl> impl_;
 };
 
+// Test measures of a mesh of the scene.
+// The `percent` percentile of `values` (0 when empty).
+double Percentile(std::vector<double> values, double percent);
+// Distances of points sampled on the faces (centroid and the three edge
+// midpoints) to the true surface.
+std::vector<double> FaceDistancesToSurface(const SyntheticBoxScene& scene,
+                                           const TriangleMesh& mesh);
+// Fraction of the true-surface samples (every `spacing` metres, seen by two
+// cameras) within `threshold` of the mesh.
+double SurfaceCoverage(const SyntheticBoxScene& scene, const TriangleMesh& mesh,
+                       double threshold, double spacing = 0.05);
+
 // Meshing input from scene points: camera sensors of the model, then the
 // visual points (AddVisualPoints with default weights).
 MeshingInput MakeVisualMeshingInput(const SyntheticBoxScene& scene,

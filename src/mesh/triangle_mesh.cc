@@ -61,6 +61,10 @@ void TriangleMesh::CheckIndices() const {
 }
 
 bool MeshCleanupOptions::Check() const {
+  if (!(median_edge_length_m >= 0) || !std::isfinite(median_edge_length_m)) {
+    LOG(ERROR) << "MeshCleanup.median_edge_length_m must be finite and >= 0";
+    return false;
+  }
   if (max_edge_length_factor < 0) {
     LOG(ERROR) << "MeshCleanup.max_edge_length_factor must be >= 0";
     return false;
@@ -95,7 +99,11 @@ MeshCleanupSummary CleanupMesh(const MeshCleanupOptions& options,
     }
     auto median = lengths.begin() + lengths.size() / 2;
     std::nth_element(lengths.begin(), median, lengths.end());
-    const double max_length = options.max_edge_length_factor * *median;
+    summary.median_edge_length_m = options.median_edge_length_m > 0
+                                       ? options.median_edge_length_m
+                                       : *median;
+    const double max_length =
+        options.max_edge_length_factor * summary.median_edge_length_m;
     size_t num_kept = 0;
     for (size_t i = 0; i < faces.size(); ++i) {
       if (longest[i] <= max_length) faces[num_kept++] = faces[i];

@@ -27,6 +27,11 @@ struct MeshCleanupOptions {
   // Faces whose longest edge exceeds this factor times the median edge length
   // of the mesh are removed; 0 disables the test.
   double max_edge_length_factor = 25.0;
+  // The median edge length that factor applies to, metres; 0: the mesh's
+  // own. The tiles of one scene share their first tile's
+  // (tiled_meshing.h): a sparse tile's own median would keep the long faces
+  // that the whole scene's removes.
+  double median_edge_length_m = 0;
   // Connected components (through shared edges) with fewer faces are
   // removed; 0 keeps all.
   int min_component_faces = 50;
@@ -36,6 +41,8 @@ struct MeshCleanupOptions {
 
 struct MeshCleanupSummary {
   size_t num_long_edge_faces_removed = 0;
+  // The median edge length the long-edge test used, metres (0: no test).
+  double median_edge_length_m = 0;
   size_t num_small_component_faces_removed = 0;
   size_t num_components_removed = 0;
 };

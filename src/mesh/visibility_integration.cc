@@ -137,6 +137,11 @@ bool VisibilityIntegrationOptions::Check() const {
     LOG(ERROR) << "DelaunayMeshing.distance_sigma_factor must be > 0";
     return false;
   }
+  if (!(distance_sigma_m >= 0) || !std::isfinite(distance_sigma_m)) {
+    LOG(ERROR) << "Visibility integration: distance_sigma_m must be finite "
+                  "and >= 0";
+    return false;
+  }
   if (!(behind_distance_factor > 0)) {
     LOG(ERROR) << "DelaunayMeshing.behind_distance_factor must be > 0";
     return false;
@@ -268,10 +273,13 @@ CellGraphWeights IntegrateVisibility(
 
   CellGraphWeights weights;
   weights.num_rays = rays.size();
-  weights.distance_sigma = options.distance_sigma_factor *
-                           std::max(LowerQuartileEdgeLength(
-                                        triangulation, options.num_threads),
-                                    1e-9);
+  weights.distance_sigma =
+      options.distance_sigma_m > 0
+          ? options.distance_sigma_m
+          : options.distance_sigma_factor *
+                std::max(LowerQuartileEdgeLength(triangulation,
+                                                 options.num_threads),
+                         1e-9);
   const double behind_distance =
       options.behind_distance_factor * weights.distance_sigma;
   const double max_free_space_length =

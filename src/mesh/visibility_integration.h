@@ -57,6 +57,10 @@ struct VisibilityIntegrationOptions {
   // cm); measured in docs/benchmarks/matrix.md ("Free-space length cap").
   // >= 0.
   double max_free_space_length_factor = 100.0;
+  // sigma itself, metres, when > 0 (then distance_sigma_factor is unused):
+  // the tiles of one scene share their first tile's (tiled_meshing.h), so
+  // that both sides of a seam weigh the rays alike. 0: from the edges.
+  double distance_sigma_m = 0;
   // Worker threads; <= 0 uses all cores.
   int num_threads = -1;
 
