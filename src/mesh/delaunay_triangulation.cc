@@ -1,10 +1,10 @@
 #include "src/mesh/delaunay_triangulation.h"
 
 #include <algorithm>
-#include <unordered_map>
 #include <cmath>
-#include <utility>
 #include <numeric>
+#include <unordered_map>
+#include <utility>
 
 #include <CGAL/Spatial_sort_traits_adapter_3.h>
 #include <CGAL/property_map.h>

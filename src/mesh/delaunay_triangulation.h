@@ -56,9 +56,12 @@ struct DelaunayTriangulationOptions {
   double min_lidar_vertex_distance_m = 0.05;
   // Insert each group in the order of a fixed world grid (Morton order of
   // 1 cm cells, ties by input order) instead of CGAL's spatial sort of the
-  // input at hand: a point's merge then depends on the points near it, not
-  // on the rest of the input, and two tiles of one scene merge the points
-  // they share alike (tiled_meshing.h). Slower to insert (a coarser locality).
+  // input at hand, and take as a point's merge candidate the nearest vertex
+  // in the 27 cells of 10 cm around it (not the nearest of its enclosing
+  // cell, whose shape depends on points far away): a point's merge then
+  // depends on the points near it only, and two tiles of one scene merge
+  // the points they share alike (tiled_meshing.h). It merges more than the
+  // enclosing cell's rule (the box test scene: 15 % fewer faces).
   bool world_grid_order = false;
 
   bool Check() const;
