@@ -30,6 +30,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -50,7 +51,8 @@ struct MeshingTiles {
   Eigen::Vector3d axis_v = Eigen::Vector3d::UnitY();
   double u_min = 0;
   double v_min = 0;
-  double size_m = 0;
+  // Infinite for a single tile (the whole input).
+  double size_m = std::numeric_limits<double>::infinity();
   double margin_m = 0;
   int num_u = 1;
   int num_v = 1;

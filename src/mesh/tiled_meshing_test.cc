@@ -106,8 +106,13 @@ TEST_F(TiledMeshing, TilesHoldTheBudgetAndPartitionThePoints) {
     num_nonempty += num_core[tile] > 0;
   }
   EXPECT_GT(num_nonempty, 1u);
-  // Within the budget: one tile.
-  EXPECT_EQ(ChooseMeshingTiles(input_, input_.NumPoints(), 0.5).NumTiles(), 1);
+  // Within the budget: one tile, which holds everything.
+  const MeshingTiles one = ChooseMeshingTiles(input_, input_.NumPoints(), 0.5);
+  EXPECT_EQ(one.NumTiles(), 1);
+  EXPECT_EQ(one.TileOf(input_.positions.front()), 0);
+  EXPECT_TRUE(one.Contains(0, input_.positions.back(), 0.0));
+  EXPECT_EQ(one.CountPoints(input_.positions),
+            std::vector<size_t>{input_.NumPoints()});
 }
 
 TEST_F(TiledMeshing, WithinTheBudgetIsTheMesherItself) {
