@@ -93,14 +93,8 @@ TriangleMesh ExtractSurface(const MeshingTriangulation& triangulation,
       mesh.faces.push_back({v[0]->info(), v[1]->info(), v[2]->info()});
     }
   }
-  // Faces in a canonical order (each from its smallest vertex index, which
-  // keeps its orientation, then sorted), not in the cells' order, so that
-  // equal surfaces give equal files.
-  for (std::array<uint32_t, 3>& face : mesh.faces) {
-    std::rotate(face.begin(), std::min_element(face.begin(), face.end()),
-                face.end());
-  }
-  std::sort(mesh.faces.begin(), mesh.faces.end());
+  // Not in the cells' order: equal surfaces give equal files.
+  SortFacesCanonically(&mesh);
   return mesh;
 }
 
@@ -116,8 +110,8 @@ bool DelaunayMeshingOptions::Check() const {
     LOG(ERROR) << "DelaunayMeshing.quality_regularization must be >= 0";
     return false;
   }
-  if (!(max_memory_gb > 0)) {
-    LOG(ERROR) << "DelaunayMeshing.max_memory_gb must be > 0";
+  if (!(max_memory_gb > 0) || !std::isfinite(max_memory_gb)) {
+    LOG(ERROR) << "DelaunayMeshing.max_memory_gb must be finite and > 0";
     return false;
   }
   if (!(tile_margin_m >= 0) || !std::isfinite(tile_margin_m)) {
@@ -125,6 +119,11 @@ bool DelaunayMeshingOptions::Check() const {
     return false;
   }
   return true;
+}
+
+size_t DelaunayMeshingOptions::MaxNumPoints() const {
+  return static_cast<size_t>(max_memory_gb * (1ull << 30) /
+                             kEstimatedBytesPerPoint);
 }
 
 ViewRegionOptions DelaunayMeshingOptions::ViewOptions() const {
@@ -213,8 +212,7 @@ TriangleMesh DelaunayMeshing(const DelaunayMeshingOptions& options,
   }
 
   // Memory guard.
-  const size_t max_num_points = static_cast<size_t>(
-      options.max_memory_gb * (1ull << 30) / kEstimatedBytesPerPoint);
+  const size_t max_num_points = options.MaxNumPoints();
   if (input->NumPoints() > max_num_points) {
     LOG(WARNING) << input->NumPoints() << " points exceed the memory guard ("
                  << max_num_points << " points for " << options.max_memory_gb

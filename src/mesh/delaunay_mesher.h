@@ -93,6 +93,8 @@ struct DelaunayMeshingOptions {
   int num_threads = -1;
 
   bool Check() const;
+  // The input points that max_memory_gb admits in one piece.
+  size_t MaxNumPoints() const;
   ViewRegionOptions ViewOptions() const;
   DelaunayTriangulationOptions TriangulationOptions() const;
   VisibilityIntegrationOptions VisibilityOptions() const;

@@ -1,6 +1,7 @@
 #include "src/mesh/delaunay_mesher.h"
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -368,6 +369,8 @@ TEST(DelaunayMesher, RejectsBadOptionsAndTinyInput) {
   EXPECT_FALSE(options.Check());
   options = DelaunayMeshingOptions();
   options.max_memory_gb = 0;
+  EXPECT_FALSE(options.Check());
+  options.max_memory_gb = std::numeric_limits<double>::infinity();
   EXPECT_FALSE(options.Check());
   MeshingInput input;
   input.sensors.emplace_back();

@@ -118,24 +118,40 @@ bool MeshingTiles::Contains(int tile, const Eigen::Vector3d& position,
   return u >= u0 && u < u1 && v >= v0 && v < v1;
 }
 
-std::vector<size_t> MeshingTiles::CountPoints(
-    const std::vector<Eigen::Vector3d>& positions) const {
-  std::vector<size_t> counts(NumTiles(), 0);
+template <typename Visit>
+void MeshingTiles::ForEachTileOf(const Eigen::Vector3d& position,
+                                 Visit&& visit) const {
+  // The tiles i with i * size - margin <= w < (i + 1) * size + margin.
   const auto range = [&](double w, int n) {
     return std::make_pair(
         Clamp(static_cast<int>(std::floor((w - margin_m) / size_m)), 0, n - 1),
         Clamp(static_cast<int>(std::floor((w + margin_m) / size_m)), 0,
               n - 1));
   };
+  const Eigen::Vector3d offset = position - origin;
+  const auto [i0, i1] = range(axis_u.dot(offset) - u_min, num_u);
+  const auto [j0, j1] = range(axis_v.dot(offset) - v_min, num_v);
+  for (int i = i0; i <= i1; ++i) {
+    for (int j = j0; j <= j1; ++j) visit(i * num_v + j);
+  }
+}
+
+std::vector<size_t> MeshingTiles::CountPoints(
+    const std::vector<Eigen::Vector3d>& positions) const {
+  std::vector<size_t> counts(NumTiles(), 0);
   for (const Eigen::Vector3d& position : positions) {
-    const Eigen::Vector3d offset = position - origin;
-    const auto [i0, i1] = range(axis_u.dot(offset) - u_min, num_u);
-    const auto [j0, j1] = range(axis_v.dot(offset) - v_min, num_v);
-    for (int i = i0; i <= i1; ++i) {
-      for (int j = j0; j <= j1; ++j) ++counts[i * num_v + j];
-    }
+    ForEachTileOf(position, [&](int tile) { ++counts[tile]; });
   }
   return counts;
+}
+
+std::vector<std::vector<uint32_t>> MeshingTiles::PointsPerTile(
+    const std::vector<Eigen::Vector3d>& positions) const {
+  std::vector<std::vector<uint32_t>> points(NumTiles());
+  for (uint32_t i = 0; i < positions.size(); ++i) {
+    ForEachTileOf(positions[i], [&](int tile) { points[tile].push_back(i); });
+  }
+  return points;
 }
 
 MeshingTiles ChooseMeshingTiles(const MeshingInput& input,
@@ -205,8 +221,7 @@ size_t MaxTilePointsForBudget(const DelaunayMeshingOptions& options,
                               size_t num_points) {
   // The whole input stays in memory: the tiles get the rest, and at least
   // a tenth of the budget (below that the guard decimates each tile).
-  const double budget_points =
-      options.max_memory_gb * (1ull << 30) / kEstimatedBytesPerPoint;
+  const double budget_points = static_cast<double>(options.MaxNumPoints());
   return static_cast<size_t>(std::max(
       0.1 * budget_points,
       budget_points -
@@ -214,12 +229,16 @@ size_t MaxTilePointsForBudget(const DelaunayMeshingOptions& options,
 }
 
 MeshingInput TileMeshingInput(const MeshingInput& input,
+                              const std::vector<uint32_t>& points,
                               const MeshingTiles& tiles, int tile) {
   MeshingInput output;
   output.sensors = input.sensors;
   output.crease_spacing_m = input.crease_spacing_m;
-  for (size_t i = 0; i < input.NumPoints(); ++i) {
-    if (!tiles.Contains(tile, input.positions[i], tiles.margin_m)) continue;
+  output.positions.reserve(points.size());
+  output.sources.reserve(points.size());
+  output.ray_weights.reserve(points.size());
+  output.visibility.reserve(points.size());
+  for (const uint32_t i : points) {
     output.positions.push_back(input.positions[i]);
     output.sources.push_back(input.sources[i]);
     output.ray_weights.push_back(input.ray_weights[i]);
@@ -238,9 +257,8 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
                                   const MeshingInput& input,
                                   DelaunayMeshingSummary* summary_out) {
   THROW_CHECK(options.Check(), "Invalid Delaunay meshing options");
-  const double budget_points =
-      options.max_memory_gb * (1ull << 30) / kEstimatedBytesPerPoint;
-  if (input.NumPoints() <= static_cast<size_t>(budget_points)) {
+  const size_t budget_points = options.MaxNumPoints();
+  if (input.NumPoints() <= budget_points) {
     return DelaunayMeshing(options, input, summary_out);
   }
   const size_t max_tile_points =
@@ -249,8 +267,7 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
       ChooseMeshingTiles(input, max_tile_points, options.tile_margin_m);
   LOG(INFO) << "Meshing by tiles: " << input.NumPoints()
             << " points exceed the memory budget (" << options.max_memory_gb
-            << " GiB, " << static_cast<size_t>(budget_points)
-            << " points); " << tiles.NumTiles() << " tiles (" << tiles.num_u
+            << " GiB, " << budget_points << " points); " << tiles.NumTiles() << " tiles (" << tiles.num_u
             << " x " << tiles.num_v << ") of " << tiles.size_m
             << " m with a margin of " << tiles.margin_m << " m, at most "
             << tiles.max_tile_points << " points each (budget "
@@ -260,7 +277,13 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
   summary.num_input_points = input.NumPoints();
   summary.num_tiles = tiles.NumTiles();
   summary.tile_size_m = tiles.size_m;
-  const std::vector<size_t> num_points = tiles.CountPoints(input.positions);
+  // Each tile's points, found once; and those of its core.
+  std::vector<std::vector<uint32_t>> tile_points =
+      tiles.PointsPerTile(input.positions);
+  std::vector<size_t> num_core_points(tiles.NumTiles(), 0);
+  for (const Eigen::Vector3d& position : input.positions) {
+    ++num_core_points[tiles.TileOf(position)];
+  }
   // Both sides of a seam must build the same faces there: the points merge
   // in a world grid's order, and every tile takes the free-space sigma and
   // the clean-up's median edge length of the fullest, meshed first.
@@ -269,22 +292,20 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
   std::vector<int> order(tiles.NumTiles());
   for (int tile = 0; tile < tiles.NumTiles(); ++tile) order[tile] = tile;
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return num_points[a] > num_points[b];
+    return tile_points[a].size() > tile_points[b].size();
   });
   TriangleMesh mesh;
   std::unordered_map<PositionKey, uint32_t, PositionKeyHash> vertex_index;
   for (size_t rank = 0; rank < order.size(); ++rank) {
     const int tile = order[rank];
-    MeshingInput tile_input = TileMeshingInput(input, tiles, tile);
-    size_t num_core_points = 0;
-    for (const Eigen::Vector3d& position : tile_input.positions) {
-      num_core_points += tiles.TileOf(position) == tile;
-    }
-    if (num_core_points == 0 || tile_input.NumPoints() < 4) {
+    if (num_core_points[tile] == 0 || tile_points[tile].size() < 4) {
       LOG(INFO) << "Tile " << rank + 1 << " / " << tiles.NumTiles()
                 << ": no point in its core";
       continue;
     }
+    MeshingInput tile_input =
+        TileMeshingInput(input, tile_points[tile], tiles, tile);
+    std::vector<uint32_t>().swap(tile_points[tile]);
     const std::vector<Eigen::Vector3d> corners =
         AddEnclosingCorners(&tile_input);
     DelaunayMeshingSummary tile_summary;
@@ -338,19 +359,13 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
     summary.graph_cut_seconds += tile_summary.graph_cut_seconds;
     summary.total_seconds += tile_summary.total_seconds;
     LOG(INFO) << "Tile " << rank + 1 << " / " << tiles.NumTiles() << ": "
-              << num_tile_points << " points (" << num_core_points
+              << num_tile_points << " points (" << num_core_points[tile]
               << " in its core), " << num_kept << " of "
               << tile_mesh.faces.size() << " faces kept, "
               << tile_summary.total_seconds << " s, peak memory so far "
               << PeakResidentMemoryBytes() / (1024.0 * 1024.0) << " MiB";
   }
-  // The mesher's canonical order: each face from its smallest vertex (its
-  // orientation kept), the faces sorted.
-  for (std::array<uint32_t, 3>& face : mesh.faces) {
-    std::rotate(face.begin(), std::min_element(face.begin(), face.end()),
-                face.end());
-  }
-  std::sort(mesh.faces.begin(), mesh.faces.end());
+  SortFacesCanonically(&mesh);
   summary.num_faces = mesh.faces.size();
   summary.num_mesh_vertices = mesh.vertices.size();
   summary.peak_memory_bytes = PeakResidentMemoryBytes();

@@ -30,6 +30,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -65,9 +66,17 @@ struct MeshingTiles {
   // Whether a position lies in tile `tile`'s core widened by `margin`.
   bool Contains(int tile, const Eigen::Vector3d& position,
                 double margin) const;
-  // The positions in each tile's core and margin, by tile.
+  // The positions in each tile's core and margin: their number, and their
+  // indices (ascending), by tile.
   std::vector<size_t> CountPoints(
       const std::vector<Eigen::Vector3d>& positions) const;
+  std::vector<std::vector<uint32_t>> PointsPerTile(
+      const std::vector<Eigen::Vector3d>& positions) const;
+
+ private:
+  // Calls visit(tile) for each tile whose core and margin hold `position`.
+  template <typename Visit>
+  void ForEachTileOf(const Eigen::Vector3d& position, Visit&& visit) const;
 };
 
 // The tiles for `input` whose core and margin hold at most
@@ -82,9 +91,11 @@ MeshingTiles ChooseMeshingTiles(const MeshingInput& input,
 size_t MaxTilePointsForBudget(const DelaunayMeshingOptions& options,
                               size_t num_points);
 
-// The input points in tile `tile`'s core and margin, every sensor (indices
-// unchanged) and the creases with an end point there.
+// The input points `points` (tile `tile`'s, PointsPerTile), every sensor
+// (indices unchanged) and the creases with an end point in the tile's core
+// and margin.
 MeshingInput TileMeshingInput(const MeshingInput& input,
+                              const std::vector<uint32_t>& points,
                               const MeshingTiles& tiles, int tile);
 
 // Meshes `input` in one piece when it fits options.max_memory_gb, else by

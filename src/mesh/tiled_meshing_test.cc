@@ -97,8 +97,16 @@ TEST_F(TiledMeshing, TilesHoldTheBudgetAndPartitionThePoints) {
   }
   size_t num_nonempty = 0;
   const std::vector<size_t> counts = tiles.CountPoints(input_.positions);
+  const std::vector<std::vector<uint32_t>> points =
+      tiles.PointsPerTile(input_.positions);
   for (int tile = 0; tile < tiles.NumTiles(); ++tile) {
-    const MeshingInput part = TileMeshingInput(input_, tiles, tile);
+    for (size_t i = 0; i < input_.NumPoints(); ++i) {
+      EXPECT_EQ(std::binary_search(points[tile].begin(), points[tile].end(),
+                                   static_cast<uint32_t>(i)),
+                tiles.Contains(tile, input_.positions[i], tiles.margin_m));
+    }
+    const MeshingInput part =
+        TileMeshingInput(input_, points[tile], tiles, tile);
     EXPECT_EQ(part.NumPoints(), counts[tile]);
     EXPECT_LE(part.NumPoints(), budget);
     EXPECT_GE(part.NumPoints(), num_core[tile]);

@@ -144,6 +144,14 @@ MeshCleanupSummary CleanupMesh(const MeshCleanupOptions& options,
   return summary;
 }
 
+void SortFacesCanonically(TriangleMesh* mesh) {
+  for (std::array<uint32_t, 3>& face : mesh->faces) {
+    std::rotate(face.begin(), std::min_element(face.begin(), face.end()),
+                face.end());
+  }
+  std::sort(mesh->faces.begin(), mesh->faces.end());
+}
+
 void RemoveUnusedVertices(TriangleMesh* mesh) {
   constexpr uint32_t kUnused = 0xFFFFFFFFu;
   std::vector<uint32_t> new_index(mesh->vertices.size(), kUnused);

@@ -52,6 +52,11 @@ struct MeshCleanupSummary {
 MeshCleanupSummary CleanupMesh(const MeshCleanupOptions& options,
                                TriangleMesh* mesh);
 
+// Puts the faces in a canonical order: each from its smallest vertex index
+// (which keeps its orientation), then sorted, so that equal surfaces give
+// equal files whatever order built them.
+void SortFacesCanonically(TriangleMesh* mesh);
+
 // Drops unused vertices and renumbers the faces.
 void RemoveUnusedVertices(TriangleMesh* mesh);
 
