@@ -30,6 +30,25 @@ bool IsBuiltin(const std::string& name) {
   return name == kHelp || name == kProjectPath || name == kCheckOptions;
 }
 
+// Boost.ProgramOptions builds an error message by replacing each
+// %placeholder% with its text until none is left, so a name, token or preset
+// line that itself holds a placeholder never terminates (found by tests/fuzz,
+// through option names, bool switches given a value and ';' lines of a
+// preset). Boost therefore never sees a '%' of the user's: each one is swapped
+// for this control character before parsing and swapped back in the values and
+// messages that come out. Input that holds the stand-in itself is refused.
+constexpr char kPercentStandIn = '\x1f';
+
+std::string HidePercent(std::string text) {
+  std::replace(text.begin(), text.end(), '%', kPercentStandIn);
+  return text;
+}
+
+std::string RestorePercent(std::string text) {
+  std::replace(text.begin(), text.end(), kPercentStandIn, '%');
+  return text;
+}
+
 // Word-wraps `text` to lines of at most `width` characters (longer words stay
 // whole), each prefixed by `indent`.
 std::string Wrap(const std::string& text, const std::string& indent,
@@ -266,12 +285,9 @@ bool OptionManager::Parse(int argc, char** argv) {
       return Fail("unexpected argument '" + token +
                   "'; options are given as --name value");
     }
-    // Boost's error messages substitute %placeholders% in option names and
-    // loop forever on a name that holds one (found by tests/fuzz): no
-    // option has a '%', so such a name is refused before Boost sees it.
-    if (token.substr(0, token.find('=')).find('%') != std::string::npos) {
-      return Fail("unknown option '" + token.substr(0, token.find('=')) +
-                  "'");
+    if (token.find(kPercentStandIn) != std::string::npos) {
+      return Fail("the argument '" + RestorePercent(token) +
+                  "' holds a control character (0x1f)");
     }
     const bool takes_value = StringStartsWith(token, "--") &&
                              token.find('=') == std::string::npos &&
@@ -280,14 +296,18 @@ bool OptionManager::Parse(int argc, char** argv) {
         !StringStartsWith(argv[i + 1], "--")) {
       const std::string name = token.substr(2);
       const std::string value = argv[++i];
+      if (value.find(kPercentStandIn) != std::string::npos) {
+        return Fail("the value '" + value + "' of " + token +
+                    " holds a control character (0x1f)");
+      }
       if (!value.empty() && (name == kProjectPath || FindOption(name))) {
-        tokens.push_back(token + "=" + value);
+        tokens.push_back(HidePercent(token + "=" + value));
       } else {
-        tokens.push_back(token);
-        tokens.push_back(value);
+        tokens.push_back(HidePercent(token));
+        tokens.push_back(HidePercent(value));
       }
     } else {
-      tokens.push_back(token);
+      tokens.push_back(HidePercent(token));
     }
   }
 
@@ -316,42 +336,42 @@ bool OptionManager::Parse(int argc, char** argv) {
     check_only = cli_values[kCheckOptions].as<bool>();
 
     if (cli_values.count(kProjectPath)) {
-      project_path_ = cli_values[kProjectPath].as<std::string>();
+      project_path_ =
+          RestorePercent(cli_values[kProjectPath].as<std::string>());
       std::ifstream file(project_path_);
       if (!ExistsFile(project_path_) || !file.is_open()) {
         return Fail("cannot read the preset --project_path " + project_path_);
       }
-      // As on the command line: no option name holds a '%' (see above).
-      for (std::string line; std::getline(file, line);) {
-        const std::string key = line.substr(0, line.find('='));
-        if (!StringStartsWith(line, "#") && !StringStartsWith(line, ";") &&
-            key.find('%') != std::string::npos) {
-          return Fail("in preset " + project_path_ + ": unknown option '" +
-                      key + "'");
-        }
+      std::ostringstream text;
+      text << file.rdbuf();
+      if (text.str().find(kPercentStandIn) != std::string::npos) {
+        return Fail("the preset " + project_path_ +
+                    " holds a control character (0x1f)");
       }
-      file.clear();
-      file.seekg(0);
+      std::istringstream hidden(HidePercent(text.str()));
       po::variables_map ini_values;
       try {
-        po::store(po::parse_config_file(file, ini_description,
+        po::store(po::parse_config_file(hidden, ini_description,
                                         /*allow_unregistered=*/false),
                   ini_values);
       } catch (const po::error& error) {
-        return Fail("in preset " + project_path_ + ": " + error.what());
+        return Fail("in preset " + project_path_ + ": " +
+                    RestorePercent(error.what()));
       }
       for (const auto& [name, value] : ini_values) {
-        texts[name] = {value.as<std::string>(), "preset " + project_path_};
+        texts[name] = {RestorePercent(value.as<std::string>()),
+                       "preset " + project_path_};
       }
     }
 
     for (const auto& [name, value] : cli_values) {
       if (!IsBuiltin(name)) {
-        texts[name] = {value.as<std::string>(), "command line"};
+        texts[name] = {RestorePercent(value.as<std::string>()),
+                       "command line"};
       }
     }
   } catch (const po::error& error) {
-    return Fail(error.what());
+    return Fail(RestorePercent(error.what()));
   }
 
   for (const Option& option : options_) {

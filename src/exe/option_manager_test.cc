@@ -163,27 +163,52 @@ TEST(OptionManager, UnknownOptionFailsNamingIt) {
   EXPECT_NE(error.find("Test.cuont"), std::string::npos) << error;
 }
 
-// Boost's message for an unknown name holding a %placeholder% never
-// returned (found by tests/fuzz/fuzz_options): it must fail, naming it.
-TEST(OptionManager, UnknownOptionWithPlaceholderFailsAndReturns) {
+// Boost's messages replace %placeholders% until none is left, so one in the
+// user's text never returned (found by tests/fuzz/fuzz_options, through an
+// option name, a bool switch given a value and a preset's ';' line): each of
+// these must fail, naming what was wrong, and return.
+TEST(OptionManager, PlaceholdersInNamesFailAndReturn) {
   for (const std::string name :
-       {"--x%canonical_option%", "--%original_token%=1", "--Test.%prefix%"}) {
+       {"--x%canonical_option%", "--%original_token%=1", "--Test.%prefix%",
+        "--check_options=%original_token%", "-%option%"}) {
     Fixture f;
     bool result = true;
     const std::string error =
-        ParseCapturingStderr(&f, {"--input_path", "in", name, "1"}, &result);
+        ParseCapturingStderr(&f, {"--input_path", "in", name}, &result);
     EXPECT_FALSE(result) << name;
     EXPECT_EQ(f.options.ExitCode(), EXIT_FAILURE);
     EXPECT_NE(error.find(name.substr(0, name.find('='))), std::string::npos)
         << error;
   }
+  for (const std::string ini :
+       {"input_path=in\nx%canonical_option%=1\n", ";%invalid_line%\n",
+        "%invalid_line%\n", "[x%canonical_option%]\ncount=1\n"}) {
+    Fixture f;
+    bool result = true;
+    const std::string error = ParseCapturingStderr(
+        &f, {"--project_path", WriteIniFile(ini)}, &result);
+    EXPECT_FALSE(result) << ini;
+    EXPECT_NE(error.find("preset"), std::string::npos) << error;
+    EXPECT_NE(error.find('%'), std::string::npos) << error;
+  }
+}
+
+// A '%' in a value is the user's text, kept as given (the stand-in that hides
+// it from Boost never shows); the stand-in itself is refused.
+TEST(OptionManager, PercentInValuesIsKept) {
   Fixture f;
-  bool result = true;
-  const std::string path = WriteIniFile("input_path=in\nx%canonical_option%=1\n");
-  const std::string error =
-      ParseCapturingStderr(&f, {"--project_path", path}, &result);
-  EXPECT_FALSE(result);
-  EXPECT_NE(error.find("x%canonical_option%"), std::string::npos) << error;
+  EXPECT_TRUE(f.Parse({"--input_path", "in%20dir", "--Test.names",
+                       "%option%,b%"}));
+  EXPECT_EQ(f.input_path, "in%20dir");
+  EXPECT_EQ(f.test.names, (std::vector<std::string>{"%option%", "b%"}));
+  Fixture g;
+  EXPECT_TRUE(g.Parse({"--project_path",
+                       WriteIniFile("input_path=%value%\n[Test]\nmode=%\n")}));
+  EXPECT_EQ(g.input_path, "%value%");
+  EXPECT_EQ(g.test.mode, "%");
+  Fixture h;
+  EXPECT_FALSE(h.Parse({"--input_path", "in\x1f"}));
+  EXPECT_EQ(h.options.ExitCode(), EXIT_FAILURE);
 }
 
 TEST(OptionManager, AbbreviatedOptionIsUnknown) {
