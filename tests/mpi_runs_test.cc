@@ -1,8 +1,9 @@
-// The per-image commands under MPI (issue 19): the real build/colmap-lidar
+// The distributed commands under MPI (issue 19): the real build/colmap-lidar
 // started by `mpirun -np 2` (one thread per rank) on a workspace must leave
 // exactly what one process leaves: the same ext_line_segments rows
-// (line_extractor) and the same depth, normal and fusion-mask files byte for
-// byte (lidar_patch_match_stereo). A command that is not distributed refuses
+// (line_extractor), the same depth, normal and fusion-mask files byte for
+// byte (lidar_patch_match_stereo) and the same mesh by tiles
+// (lidar_delaunay_mesher). A command that is not distributed refuses
 // to run on two ranks, and a rank's bad input fails the whole job with the
 // file named.
 //
@@ -178,6 +179,32 @@ TEST_F(MpiRunsTest, PatchMatchOnTwoRanksWritesTheSameMaps) {
   }
   // Depth and normal maps of all 8 images.
   EXPECT_EQ(num_maps, 16u);
+}
+
+// Meshing by tiles (a budget far below the input's points): the tiles are
+// meshed on both ranks and merged on rank 0 in one order, so the mesh is the
+// one process's byte for byte.
+TEST_F(MpiRunsTest, DelaunayMesherOnTwoRanksWritesTheSameMesh) {
+  const std::string options =
+      " lidar_delaunay_mesher --workspace_path " +
+      JoinPaths(Workspace(), "dense") +
+      " --DelaunayMeshing.use_visual false"
+      " --DelaunayMeshing.max_memory_gb 0.02"
+      " --DelaunayMeshing.tile_margin_m 2"
+      " --DelaunayMeshing.num_threads 1 --output_path ";
+  const std::string one = JoinPaths(*root_, "mesh_one_rank.ply");
+  const std::string two = JoinPaths(*root_, "mesh_two_ranks.ply");
+  ASSERT_EQ(testing::RunCommand(Binary() + options + one, one + ".log"), 0)
+      << ReadBytes(one + ".log");
+  ASSERT_EQ(
+      testing::RunCommand(Mpirun() + Binary() + options + two, two + ".log"), 0)
+      << ReadBytes(two + ".log");
+  const std::string log = ReadBytes(two + ".log");
+  EXPECT_NE(log.find(" tiles ("), std::string::npos) << log;
+  EXPECT_NE(log.find("on 2 ranks"), std::string::npos) << log;
+  const std::string a = ReadBytes(one);
+  EXPECT_GT(a.size(), 100000u);
+  EXPECT_TRUE(a == ReadBytes(two)) << "the meshes differ";
 }
 
 TEST_F(MpiRunsTest, OneRanksBadImageFailsTheJobNamingIt) {

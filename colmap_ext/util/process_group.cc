@@ -104,23 +104,29 @@ void ProcessGroup::Broadcast(std::string* bytes) const {
 std::vector<std::string> ProcessGroup::GatherToRoot(
     const std::string& bytes) const {
   if (size_ == 1) return {bytes};
-  THROW_CHECK(
-      bytes.size() <= static_cast<size_t>(INT_MAX),
-      "Gather of " << bytes.size() << " bytes: more than MPI's int count");
-  const int size = static_cast<int>(bytes.size());
-  std::vector<int> sizes(IsRoot() ? size_ : 0);
-  MPI_Gather(&size, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  std::vector<int> offsets(sizes.size(), 0);
-  int64_t total = 0;
-  for (size_t r = 0; r < sizes.size(); ++r) {
-    offsets[r] = static_cast<int>(total);
-    total += sizes[r];
-  }
-  THROW_CHECK(total <= INT_MAX,
+  // Every rank learns every size, so that all refuse a gather beyond MPI's
+  // int count alike instead of leaving the others waiting.
+  const uint64_t size = bytes.size();
+  std::vector<uint64_t> sizes(size_);
+  MPI_Allgather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T,
+                MPI_COMM_WORLD);
+  uint64_t total = 0;
+  for (const uint64_t part : sizes) total += part;
+  THROW_CHECK(total <= static_cast<uint64_t>(INT_MAX),
               "Gather of " << total << " bytes: more than MPI's int count");
-  std::string all(static_cast<size_t>(total), '\0');
-  MPI_Gatherv(bytes.data(), size, MPI_BYTE, all.data(), sizes.data(),
-              offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
+  std::vector<int> counts;
+  std::vector<int> offsets;
+  if (IsRoot()) {
+    for (const uint64_t part : sizes) {
+      offsets.push_back(counts.empty() ? 0 : offsets.back() + counts.back());
+      counts.push_back(static_cast<int>(part));
+    }
+  } else {
+    sizes.clear();
+  }
+  std::string all(IsRoot() ? static_cast<size_t>(total) : 0, '\0');
+  MPI_Gatherv(bytes.data(), static_cast<int>(size), MPI_BYTE, all.data(),
+              counts.data(), offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
   std::vector<std::string> parts;
   for (size_t r = 0; r < sizes.size(); ++r) {
     parts.push_back(all.substr(offsets[r], sizes[r]));

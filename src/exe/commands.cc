@@ -48,7 +48,8 @@ const std::vector<Command>& Commands() {
        "LIDAR-initialised PatchMatch stereo writing COLMAP depth/normal maps.",
        /*distributed=*/true},
       {"lidar_delaunay_mesher", &RunLidarDelaunayMesher,
-       "Delaunay + graph-cut mesh of fused visual, LIDAR and line points."},
+       "Delaunay + graph-cut mesh of fused visual, LIDAR and line points.",
+       /*distributed=*/true},
   };
   return kCommands;
 }

@@ -6,6 +6,7 @@
 
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/process_group.h"
 #include "src/exe/commands.h"
 #include "src/exe/option_manager.h"
 #include "src/exe/option_sections.h"
@@ -221,6 +222,10 @@ int RunLidarDelaunayMesher(int argc, char** argv) {
   const DelaunayMeshingSummary summary =
       MeshDenseWorkspace(meshing_options, input_options, workspace_path,
                          lines_path, output_path, database_path);
+  // Under mpirun the figures are rank 0's (the merged mesh).
+  if (!ProcessGroup::World().IsRoot()) {
+    return EXIT_SUCCESS;
+  }
   LOG(INFO) << "lidar_delaunay_mesher: " << summary.num_input_points
             << " points, " << summary.num_vertices << " Delaunay vertices, "
             << summary.num_faces << " faces; triangulation "

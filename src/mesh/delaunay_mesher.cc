@@ -9,6 +9,7 @@
 
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
+#include "colmap_ext/util/process_group.h"
 #include "src/mesh/graph_cut.h"
 #include "src/mesh/point_decimation.h"
 #include "src/mesh/progress_watchdog.h"
@@ -369,6 +370,9 @@ DelaunayMeshingSummary MeshDenseWorkspace(
       threaded_input_options, workspace_path, lines_model_path, database_path);
   DelaunayMeshingSummary summary;
   const TriangleMesh mesh = TiledDelaunayMeshing(options, input, &summary);
+  // Under mpirun the tiles are meshed on every rank and merged on rank 0,
+  // which alone writes.
+  if (!ProcessGroup::World().IsRoot()) return summary;
   WriteMeshPly(output_path, mesh);
   summary.total_seconds = timer.Seconds();
   summary.peak_memory_bytes = PeakResidentMemoryBytes();

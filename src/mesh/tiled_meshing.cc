@@ -4,8 +4,9 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <limits>
-#include <unordered_map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -13,6 +14,8 @@
 #include <glog/logging.h>
 
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/process_group.h"
+#include "src/mesh/tile_merger.h"
 
 namespace colmap_lidar {
 namespace {
@@ -31,29 +34,6 @@ constexpr double kMinTileMargins = 2.0;
 
 int Clamp(int value, int low, int high) {
   return std::max(low, std::min(value, high));
-}
-
-// Vertices of the tiles are merged by their exact coordinates.
-struct PositionKey {
-  std::array<uint64_t, 3> bits;
-  bool operator==(const PositionKey& other) const { return bits == other.bits; }
-};
-struct PositionKeyHash {
-  size_t operator()(const PositionKey& key) const {
-    uint64_t hash = 1469598103934665603ull;
-    for (const uint64_t bits : key.bits) {
-      hash = (hash ^ bits) * 1099511628211ull;
-    }
-    return static_cast<size_t>(hash);
-  }
-};
-PositionKey KeyOf(const Eigen::Vector3d& position) {
-  PositionKey key;
-  for (int k = 0; k < 3; ++k) {
-    const double value = position[k] == 0.0 ? 0.0 : position[k];  // -0 = 0.
-    std::memcpy(&key.bits[k], &value, sizeof(double));
-  }
-  return key;
 }
 
 // Adds the 8 corners of a box around the tile's points and the sensors that
@@ -253,30 +233,83 @@ MeshingInput TileMeshingInput(const MeshingInput& input,
   return output;
 }
 
+namespace {
+
+// Meshes tile `tile` of `tiles` from its points (PointsPerTile; released
+// here once its input is built).
+MeshedTile MeshTile(const DelaunayMeshingOptions& tile_options,
+                    const MeshingInput& input, const MeshingTiles& tiles,
+                    int tile, std::vector<uint32_t>* points) {
+  MeshingInput tile_input = TileMeshingInput(input, *points, tiles, tile);
+  std::vector<uint32_t>().swap(*points);
+  const std::vector<Eigen::Vector3d> corners =
+      AddEnclosingCorners(&tile_input);
+  MeshedTile result;
+  result.meshed = true;
+  result.num_points = tile_input.NumPoints();
+  TriangleMesh tile_mesh =
+      DelaunayMeshing(tile_options, tile_input, &result.summary);
+  tile_input = MeshingInput();  // Released before the crop.
+  result.num_faces = tile_mesh.faces.size();
+  std::vector<bool> is_corner(tile_mesh.vertices.size(), false);
+  for (size_t v = 0; v < tile_mesh.vertices.size(); ++v) {
+    is_corner[v] = std::find(corners.begin(), corners.end(),
+                             tile_mesh.vertices[v]) != corners.end();
+  }
+  constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
+  std::vector<uint32_t> kept_index(tile_mesh.vertices.size(), kUnused);
+  for (const std::array<uint32_t, 3>& face : tile_mesh.faces) {
+    if (is_corner[face[0]] || is_corner[face[1]] || is_corner[face[2]]) {
+      continue;
+    }
+    const Eigen::Vector3d centroid =
+        (tile_mesh.vertices[face[0]] + tile_mesh.vertices[face[1]] +
+         tile_mesh.vertices[face[2]]) /
+        3.0;
+    if (tiles.TileOf(centroid) != tile) continue;
+    std::array<uint32_t, 3> kept_face;
+    for (int k = 0; k < 3; ++k) {
+      uint32_t& index = kept_index[face[k]];
+      if (index == kUnused) {
+        index = static_cast<uint32_t>(result.kept.vertices.size());
+        result.kept.vertices.push_back(tile_mesh.vertices[face[k]]);
+      }
+      kept_face[k] = index;
+    }
+    result.kept.faces.push_back(kept_face);
+  }
+  return result;
+}
+
+}  // namespace
+
 TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
                                   const MeshingInput& input,
                                   DelaunayMeshingSummary* summary_out) {
   THROW_CHECK(options.Check(), "Invalid Delaunay meshing options");
+  const ProcessGroup& group = ProcessGroup::World();
   const size_t budget_points = options.MaxNumPoints();
   if (input.NumPoints() <= budget_points) {
+    // One piece: rank 0 alone (the other ranks of a job have nothing to do).
+    if (!group.IsRoot()) return TriangleMesh();
     return DelaunayMeshing(options, input, summary_out);
   }
   const size_t max_tile_points =
       MaxTilePointsForBudget(options, input.NumPoints());
   const MeshingTiles tiles =
       ChooseMeshingTiles(input, max_tile_points, options.tile_margin_m);
-  LOG(INFO) << "Meshing by tiles: " << input.NumPoints()
-            << " points exceed the memory budget (" << options.max_memory_gb
-            << " GiB, " << budget_points << " points); " << tiles.NumTiles() << " tiles (" << tiles.num_u
-            << " x " << tiles.num_v << ") of " << tiles.size_m
-            << " m with a margin of " << tiles.margin_m << " m, at most "
-            << tiles.max_tile_points << " points each (budget "
-            << max_tile_points << ")";
+  LOG_IF(INFO, group.IsRoot())
+      << "Meshing by tiles: " << input.NumPoints()
+      << " points exceed the memory budget (" << options.max_memory_gb
+      << " GiB, " << budget_points << " points); " << tiles.NumTiles()
+      << " tiles (" << tiles.num_u << " x " << tiles.num_v << ") of "
+      << tiles.size_m << " m with a margin of " << tiles.margin_m
+      << " m, at most " << tiles.max_tile_points << " points each (budget "
+      << max_tile_points << ")"
+      << (group.Distributed()
+              ? " on " + std::to_string(group.Size()) + " ranks"
+              : std::string());
 
-  DelaunayMeshingSummary summary;
-  summary.num_input_points = input.NumPoints();
-  summary.num_tiles = tiles.NumTiles();
-  summary.tile_size_m = tiles.size_m;
   // Each tile's points, found once; and those of its core.
   std::vector<std::vector<uint32_t>> tile_points =
       tiles.PointsPerTile(input.positions);
@@ -286,86 +319,105 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
   }
   // Both sides of a seam must build the same faces there: the points merge
   // in a world grid's order, and every tile takes the free-space sigma and
-  // the clean-up's median edge length of the fullest, meshed first.
-  DelaunayMeshingOptions tile_options = options;
-  tile_options.world_grid_order = true;
+  // the clean-up's median edge length of the reference tile: the fullest
+  // with a point in its core, meshed first. The tiles are merged in this
+  // order (fullest first) whatever the number of ranks, so that a vertex
+  // shared by a seam keeps the same index.
   std::vector<int> order(tiles.NumTiles());
   for (int tile = 0; tile < tiles.NumTiles(); ++tile) order[tile] = tile;
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return tile_points[a].size() > tile_points[b].size();
   });
-  TriangleMesh mesh;
-  std::unordered_map<PositionKey, uint32_t, PositionKeyHash> vertex_index;
-  for (size_t rank = 0; rank < order.size(); ++rank) {
-    const int tile = order[rank];
-    if (num_core_points[tile] == 0 || tile_points[tile].size() < 4) {
-      LOG(INFO) << "Tile " << rank + 1 << " / " << tiles.NumTiles()
+  const auto meshable = [&](int tile) {
+    return num_core_points[tile] > 0 && tile_points[tile].size() >= 4;
+  };
+  size_t reference = 0;
+  while (reference < order.size() && !meshable(order[reference])) {
+    ++reference;
+  }
+  THROW_CHECK(reference < order.size(), "No tile has points to mesh");
+
+  TileMerger merger;
+  DelaunayMeshingOptions tile_options = options;
+  tile_options.world_grid_order = true;
+  const auto mesh_tile = [&](size_t index) {
+    const int tile = order[index];
+    if (!meshable(tile)) {
+      LOG(INFO) << "Tile " << index + 1 << " / " << tiles.NumTiles()
                 << ": no point in its core";
+      return MeshedTile();
+    }
+    MeshedTile result = MeshTile(tile_options, input, tiles, tile,
+                                 &tile_points[tile]);
+    LOG(INFO) << "Tile " << index + 1 << " / " << tiles.NumTiles() << ": "
+              << result.num_points << " points (" << num_core_points[tile]
+              << " in its core), " << result.kept.faces.size() << " of "
+              << result.num_faces << " faces kept, "
+              << result.summary.total_seconds << " s, peak memory so far "
+              << PeakResidentMemoryBytes() / (1024.0 * 1024.0) << " MiB";
+    return result;
+  };
+
+  // The reference tile on rank 0; its sigma and edge length to every rank.
+  {
+    std::exception_ptr error;
+    std::string shared;
+    if (group.IsRoot()) {
+      try {
+        MeshedTile result = mesh_tile(reference);
+        const std::array<double, 2> values = {
+            result.summary.distance_sigma_m,
+            result.summary.cleanup.median_edge_length_m};
+        shared.assign(reinterpret_cast<const char*>(values.data()),
+                      sizeof(values));
+        merger.Add(std::move(result));
+      } catch (...) {
+        error = std::current_exception();
+      }
+    }
+    group.CheckAllOk(error, "meshing the reference tile");
+    group.Broadcast(&shared);
+    std::array<double, 2> values;
+    THROW_CHECK(shared.size() == sizeof(values),
+                "The reference tile's sigma did not reach this rank");
+    std::memcpy(values.data(), shared.data(), sizeof(values));
+    tile_options.distance_sigma_m = values[0];
+    tile_options.cleanup_median_edge_length_m = values[1];
+  }
+  // The other tiles in rounds of one per rank (round robin in the order),
+  // each round's meshes merged on rank 0 in the order.
+  for (size_t first = reference + 1; first < order.size();
+       first += group.Size()) {
+    const size_t index = first + group.Rank();
+    std::exception_ptr error;
+    MeshedTile result;
+    if (index < order.size()) {
+      try {
+        result = mesh_tile(index);
+      } catch (...) {
+        error = std::current_exception();
+      }
+    }
+    group.CheckAllOk(error, "meshing a tile");
+    if (!group.Distributed()) {
+      merger.Add(std::move(result));
       continue;
     }
-    MeshingInput tile_input =
-        TileMeshingInput(input, tile_points[tile], tiles, tile);
-    std::vector<uint32_t>().swap(tile_points[tile]);
-    const std::vector<Eigen::Vector3d> corners =
-        AddEnclosingCorners(&tile_input);
-    DelaunayMeshingSummary tile_summary;
-    TriangleMesh tile_mesh =
-        DelaunayMeshing(tile_options, tile_input, &tile_summary);
-    if (tile_options.distance_sigma_m == 0) {
-      tile_options.distance_sigma_m = tile_summary.distance_sigma_m;
-      tile_options.cleanup_median_edge_length_m =
-          tile_summary.cleanup.median_edge_length_m;
+    const std::vector<std::string> parts =
+        group.GatherToRoot(index < order.size() ? SerializeMeshedTile(result)
+                                                : std::string());
+    result = MeshedTile();
+    for (const std::string& part : parts) {
+      if (!part.empty()) merger.Add(DeserializeMeshedTile(part));
     }
-    const size_t num_tile_points = tile_input.NumPoints();
-    tile_input = MeshingInput();  // Released before the next tile.
-    size_t num_kept = 0;
-    std::vector<bool> is_corner(tile_mesh.vertices.size(), false);
-    for (size_t v = 0; v < tile_mesh.vertices.size(); ++v) {
-      is_corner[v] = std::find(corners.begin(), corners.end(),
-                               tile_mesh.vertices[v]) != corners.end();
-    }
-    for (const std::array<uint32_t, 3>& face : tile_mesh.faces) {
-      if (is_corner[face[0]] || is_corner[face[1]] || is_corner[face[2]]) {
-        continue;
-      }
-      const Eigen::Vector3d centroid =
-          (tile_mesh.vertices[face[0]] + tile_mesh.vertices[face[1]] +
-           tile_mesh.vertices[face[2]]) /
-          3.0;
-      if (tiles.TileOf(centroid) != tile) continue;
-      std::array<uint32_t, 3> merged;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector3d& vertex = tile_mesh.vertices[face[k]];
-        const auto [it, inserted] = vertex_index.emplace(
-            KeyOf(vertex), static_cast<uint32_t>(mesh.vertices.size()));
-        if (inserted) mesh.vertices.push_back(vertex);
-        merged[k] = it->second;
-      }
-      mesh.faces.push_back(merged);
-      ++num_kept;
-    }
-    summary.num_vertices += tile_summary.num_vertices;
-    summary.num_cells += tile_summary.num_cells;
-    summary.num_rays += tile_summary.num_rays;
-    summary.num_failed_walks += tile_summary.num_failed_walks;
-    summary.num_surface_faces += tile_summary.num_surface_faces;
-    summary.decimation_voxel_size_m = std::max(
-        summary.decimation_voxel_size_m, tile_summary.decimation_voxel_size_m);
-    summary.distance_sigma_m =
-        std::max(summary.distance_sigma_m, tile_summary.distance_sigma_m);
-    summary.max_flow += tile_summary.max_flow;
-    summary.triangulation_seconds += tile_summary.triangulation_seconds;
-    summary.visibility_seconds += tile_summary.visibility_seconds;
-    summary.graph_cut_seconds += tile_summary.graph_cut_seconds;
-    summary.total_seconds += tile_summary.total_seconds;
-    LOG(INFO) << "Tile " << rank + 1 << " / " << tiles.NumTiles() << ": "
-              << num_tile_points << " points (" << num_core_points[tile]
-              << " in its core), " << num_kept << " of "
-              << tile_mesh.faces.size() << " faces kept, "
-              << tile_summary.total_seconds << " s, peak memory so far "
-              << PeakResidentMemoryBytes() / (1024.0 * 1024.0) << " MiB";
   }
-  SortFacesCanonically(&mesh);
+  if (!group.IsRoot()) return TriangleMesh();
+
+  DelaunayMeshingSummary summary = merger.Summary();
+  summary.num_input_points = input.NumPoints();
+  summary.num_tiles = tiles.NumTiles();
+  summary.tile_size_m = tiles.size_m;
+  TriangleMesh mesh = merger.Release();
   summary.num_faces = mesh.faces.size();
   summary.num_mesh_vertices = mesh.vertices.size();
   summary.peak_memory_bytes = PeakResidentMemoryBytes();
