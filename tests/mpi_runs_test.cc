@@ -181,13 +181,16 @@ TEST_F(MpiRunsTest, PatchMatchOnTwoRanksWritesTheSameMaps) {
   EXPECT_EQ(num_maps, 16u);
 }
 
-// Meshing by tiles (a budget far below the input's points): the tiles are
-// meshed on both ranks and merged on rank 0 in one order, so the mesh is the
-// one process's byte for byte.
+// Meshing by tiles (a budget far below the input's points) with the line
+// samples (rank 0 alone reads their observations from the database): the
+// tiles are meshed on both ranks and merged on rank 0 in one order, so the
+// mesh is the one process's byte for byte.
 TEST_F(MpiRunsTest, DelaunayMesherOnTwoRanksWritesTheSameMesh) {
   const std::string options =
       " lidar_delaunay_mesher --workspace_path " +
       JoinPaths(Workspace(), "dense") +
+      " --lines_path " + JoinPaths(Workspace(), "sparse/refined") +
+      " --database_path " + JoinPaths(Workspace(), "database.db") +
       " --DelaunayMeshing.use_visual false"
       " --DelaunayMeshing.max_memory_gb 0.02"
       " --DelaunayMeshing.tile_margin_m 2"
@@ -202,6 +205,7 @@ TEST_F(MpiRunsTest, DelaunayMesherOnTwoRanksWritesTheSameMesh) {
   const std::string log = ReadBytes(two + ".log");
   EXPECT_NE(log.find(" tiles ("), std::string::npos) << log;
   EXPECT_NE(log.find("on 2 ranks"), std::string::npos) << log;
+  EXPECT_NE(log.find("Line samples: "), std::string::npos) << log;
   const std::string a = ReadBytes(one);
   EXPECT_GT(a.size(), 100000u);
   EXPECT_TRUE(a == ReadBytes(two)) << "the meshes differ";

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <map>
+#include <string>
 #include <vector>
 
 #include "colmap_ext/database/database.h"
@@ -44,5 +45,13 @@ LineObservedInterval ObservedLineInterval(const Line3D& line3D, const Image& ima
 // different runs).
 std::map<line3D_t, std::vector<LineObservedInterval>> ReadLineObservations(
     const Reconstruction& lines_model, const Database& database);
+
+// The observations as bytes for the other ranks of an MPI job (the same
+// binary), and back. Throws colmap_lidar::Error on truncated or trailing
+// bytes.
+std::string SerializeLineObservations(
+    const std::map<line3D_t, std::vector<LineObservedInterval>>& observations);
+std::map<line3D_t, std::vector<LineObservedInterval>>
+DeserializeLineObservations(const std::string& bytes);
 
 }  // namespace colmap_lidar

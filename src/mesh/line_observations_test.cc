@@ -1,6 +1,9 @@
 #include "src/mesh/line_observations.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -114,6 +117,31 @@ TEST_F(LineObservationsTest, ReadsTheIntervalOfEachTrackElement) {
   EXPECT_EQ(line[1].image_id, model_.images[1].image_id);
   EXPECT_NEAR(line[1].t_begin, 0.55, 1e-12);
   EXPECT_NEAR(line[1].t_end, 1.0, 1e-12);
+}
+
+// What rank 0 sends the other ranks of an MPI job.
+TEST_F(LineObservationsTest, SerializationRoundTrips) {
+  auto observations = ReadLineObservations(model_, database_);
+  observations[9] = {};  // A line without an observation travels too.
+  const std::string bytes = SerializeLineObservations(observations);
+  const auto copy = DeserializeLineObservations(bytes);
+  ASSERT_EQ(copy.size(), 2u);
+  ASSERT_EQ(copy.at(7).size(), 2u);
+  EXPECT_TRUE(copy.at(9).empty());
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(copy.at(7)[i].image_id, observations.at(7)[i].image_id);
+    EXPECT_EQ(copy.at(7)[i].t_begin, observations.at(7)[i].t_begin);
+    EXPECT_EQ(copy.at(7)[i].t_end, observations.at(7)[i].t_end);
+  }
+  EXPECT_THROW(DeserializeLineObservations(bytes.substr(0, bytes.size() - 1)),
+               Error);
+  EXPECT_THROW(DeserializeLineObservations(bytes + "x"), Error);
+  EXPECT_THROW(DeserializeLineObservations(""), Error);
+  // A count beyond the bytes is refused before anything is allocated.
+  std::string huge = bytes;
+  const uint64_t count = ~uint64_t{0} / 4;
+  std::memcpy(&huge[2 * sizeof(uint64_t)], &count, sizeof(count));
+  EXPECT_THROW(DeserializeLineObservations(huge), Error);
 }
 
 TEST_F(LineObservationsTest, SegmentIndexBeyondTheDatabaseNamesIt) {

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
 #include <iomanip>
 #include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
+#include <string>
 
 #include "colmap_ext/model/model_io.h"
 #include "colmap_ext/mvs/workspace.h"
@@ -15,6 +17,7 @@
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
 #include "colmap_ext/util/ply.h"
+#include "colmap_ext/util/process_group.h"
 #include "colmap_ext/util/string.h"
 #include "src/mesh/radius_grid.h"
 
@@ -611,9 +614,29 @@ MeshingInput ReadMeshingInput(const MeshingInputOptions& options,
                 "No lines3D.bin/.txt with lines in " << lines_model_path);
     std::map<line3D_t, std::vector<LineObservedInterval>> observations;
     if (!database_path.empty()) {
-      CheckFileExists(database_path, "Database");
-      const Database database(database_path);
-      observations = ReadLineObservations(lines_model, database);
+      // Under mpirun rank 0 alone opens the database (SQLite's write-ahead
+      // log needs memory shared by the processes that open it, which ranks
+      // on different machines do not share; process_group.h) and sends the
+      // observations to the others.
+      const ProcessGroup& group = ProcessGroup::World();
+      std::exception_ptr error;
+      if (group.IsRoot()) {
+        try {
+          CheckFileExists(database_path, "Database");
+          const Database database(database_path);
+          observations = ReadLineObservations(lines_model, database);
+        } catch (...) {
+          error = std::current_exception();
+        }
+      }
+      group.CheckAllOk(error, "reading the line observations");
+      if (group.Distributed()) {
+        std::string bytes = group.IsRoot()
+                                ? SerializeLineObservations(observations)
+                                : std::string();
+        group.Broadcast(&bytes);
+        if (!group.IsRoot()) observations = DeserializeLineObservations(bytes);
+      }
     } else {
       LOG(WARNING) << "No database of the line segments: every image of a "
                       "line's track is taken to see the whole line";
