@@ -6,6 +6,7 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -328,9 +329,13 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return tile_points[a].size() > tile_points[b].size();
   });
-  const auto meshable = [&](int tile) {
-    return num_core_points[tile] > 0 && tile_points[tile].size() >= 4;
-  };
+  // Decided once: a tile's points are released when it is meshed.
+  std::vector<bool> is_meshable(tiles.NumTiles());
+  for (int tile = 0; tile < tiles.NumTiles(); ++tile) {
+    is_meshable[tile] =
+        num_core_points[tile] > 0 && tile_points[tile].size() >= 4;
+  }
+  const auto meshable = [&](int tile) { return is_meshable[tile]; };
   size_t reference = 0;
   while (reference < order.size() && !meshable(order[reference])) {
     ++reference;
@@ -384,31 +389,47 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
     tile_options.distance_sigma_m = values[0];
     tile_options.cleanup_median_edge_length_m = values[1];
   }
-  // The other tiles in rounds of one per rank (round robin in the order),
-  // each round's meshes merged on rank 0 in the order.
-  for (size_t first = reference + 1; first < order.size();
-       first += group.Size()) {
-    const size_t index = first + group.Rank();
-    std::exception_ptr error;
-    MeshedTile result;
-    if (index < order.size()) {
-      try {
-        result = mesh_tile(index);
-      } catch (...) {
-        error = std::current_exception();
+  // The other tiles, each on one rank: the fullest first, to the rank with
+  // the fewest points so far (a tile's time grows with its points), the same
+  // assignment on every rank. One process merges each tile as it is done;
+  // ranks keep theirs until all are done, then rank 0 gathers and merges
+  // them in the order, one tile at a time.
+  std::vector<int> owner(order.size(), 0);
+  std::vector<size_t> load(group.Size(), 0);
+  for (size_t index = reference + 1; index < order.size(); ++index) {
+    if (!meshable(order[index])) continue;
+    owner[index] = static_cast<int>(
+        std::min_element(load.begin(), load.end()) - load.begin());
+    load[owner[index]] += tile_points[order[index]].size();
+  }
+  std::map<size_t, MeshedTile> own_tiles;
+  std::exception_ptr error;
+  for (size_t index = reference + 1; index < order.size(); ++index) {
+    if (owner[index] != group.Rank()) continue;
+    try {
+      MeshedTile result = mesh_tile(index);
+      if (!group.Distributed()) {
+        merger.Add(std::move(result));
+      } else if (result.meshed) {
+        own_tiles[index] = std::move(result);
       }
+    } catch (...) {
+      error = std::current_exception();
+      break;
     }
-    group.CheckAllOk(error, "meshing a tile");
-    if (!group.Distributed()) {
-      merger.Add(std::move(result));
-      continue;
-    }
-    const std::vector<std::string> parts =
-        group.GatherToRoot(index < order.size() ? SerializeMeshedTile(result)
-                                                : std::string());
-    result = MeshedTile();
-    for (const std::string& part : parts) {
-      if (!part.empty()) merger.Add(DeserializeMeshedTile(part));
+  }
+  group.CheckAllOk(error, "meshing the tiles");
+  if (group.Distributed()) {
+    for (size_t index = reference + 1; index < order.size(); ++index) {
+      if (!meshable(order[index])) continue;
+      std::string bytes;
+      if (owner[index] == group.Rank()) {
+        bytes = SerializeMeshedTile(own_tiles.at(index));
+        own_tiles.erase(index);
+      }
+      for (const std::string& part : group.GatherToRoot(bytes)) {
+        if (!part.empty()) merger.Add(DeserializeMeshedTile(part));
+      }
     }
   }
   if (!group.IsRoot()) return TriangleMesh();

@@ -102,6 +102,14 @@ MeshingInput TileMeshingInput(const MeshingInput& input,
 // tiles (file comment). The summary's counts and times are summed over the
 // tiles; its peak memory is the process's. Throws colmap_lidar::Error on
 // invalid options or input.
+//
+// Under mpirun / srun (ProcessGroup::World(), every rank with the same
+// input) the tiles are split over the ranks: rank 0 meshes the reference
+// tile and sends its sigma and edge length to all; each other tile goes to
+// one rank (fullest first, to the rank with the fewest points so far); rank
+// 0 gathers the kept faces (tile_merger.h) and merges them in the order of
+// one process, so it returns the same mesh byte for byte; the other ranks
+// return an empty mesh. In one piece, rank 0 alone meshes.
 TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
                                   const MeshingInput& input,
                                   DelaunayMeshingSummary* summary = nullptr);
