@@ -3,17 +3,16 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <mutex>
 #include <optional>
 #include <sstream>
 #include <thread>
-#include <type_traits>
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "colmap_ext/util/byte_stream.h"
 #include "colmap_ext/util/file.h"
 #include "colmap_ext/util/json.h"
 #include "colmap_ext/util/logging.h"
@@ -90,53 +89,6 @@ struct ImageResult {
   int num_lifted_segments = 0;
   double total_ms = 0.0;
   std::vector<LineSegmentRecord> records;
-};
-
-// Byte images of the jobs and results between ranks of one executable
-// (same architecture: plain values, no byte-order conversion).
-class ByteWriter {
- public:
-  explicit ByteWriter(std::string* bytes) : bytes_(bytes) {}
-  template <typename T>
-  void Value(const T& value) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    bytes_->append(reinterpret_cast<const char*>(&value), sizeof(T));
-  }
-  void String(const std::string& value) {
-    Value<uint64_t>(value.size());
-    bytes_->append(value);
-  }
-
- private:
-  std::string* bytes_;
-};
-
-class ByteReader {
- public:
-  explicit ByteReader(const std::string& bytes) : bytes_(bytes) {}
-  bool AtEnd() const { return pos_ == bytes_.size(); }
-  template <typename T>
-  T Value() {
-    static_assert(std::is_trivially_copyable_v<T>);
-    THROW_CHECK(pos_ + sizeof(T) <= bytes_.size(),
-                "truncated message between MPI ranks");
-    T value;
-    std::memcpy(&value, bytes_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
-    return value;
-  }
-  std::string String() {
-    const uint64_t size = Value<uint64_t>();
-    THROW_CHECK(pos_ + size <= bytes_.size(),
-                "truncated message between MPI ranks");
-    std::string value = bytes_.substr(pos_, size);
-    pos_ += size;
-    return value;
-  }
-
- private:
-  const std::string& bytes_;
-  size_t pos_ = 0;
 };
 
 std::string SerializeJobs(const std::vector<Job>& jobs) {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 
+#include "colmap_ext/util/byte_stream.h"
 #include "colmap_ext/util/logging.h"
 
 namespace colmap_lidar {
@@ -53,35 +53,21 @@ namespace {
 // One observation on the wire: image id, then t_begin and t_end.
 constexpr size_t kObservationBytes = sizeof(uint32_t) + 2 * sizeof(double);
 
-template <typename T>
-void AppendValue(const T& value, std::string* bytes) {
-  bytes->append(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-template <typename T>
-T ExtractValue(const std::string& bytes, size_t* offset) {
-  THROW_CHECK(sizeof(T) <= bytes.size() - *offset,
-              "Line observations from rank 0 are truncated");
-  T value;
-  std::memcpy(&value, bytes.data() + *offset, sizeof(T));
-  *offset += sizeof(T);
-  return value;
-}
-
 }  // namespace
 
 std::string SerializeLineObservations(
     const std::map<line3D_t, std::vector<LineObservedInterval>>&
         observations) {
   std::string bytes;
-  AppendValue<uint64_t>(observations.size(), &bytes);
+  ByteWriter writer(&bytes);
+  writer.Value<uint64_t>(observations.size());
   for (const auto& [line_id, intervals] : observations) {
-    AppendValue<uint64_t>(line_id, &bytes);
-    AppendValue<uint64_t>(intervals.size(), &bytes);
+    writer.Value<uint64_t>(line_id);
+    writer.Value<uint64_t>(intervals.size());
     for (const LineObservedInterval& interval : intervals) {
-      AppendValue<uint32_t>(interval.image_id, &bytes);
-      AppendValue(interval.t_begin, &bytes);
-      AppendValue(interval.t_end, &bytes);
+      writer.Value<uint32_t>(interval.image_id);
+      writer.Value(interval.t_begin);
+      writer.Value(interval.t_end);
     }
   }
   return bytes;
@@ -90,23 +76,23 @@ std::string SerializeLineObservations(
 std::map<line3D_t, std::vector<LineObservedInterval>>
 DeserializeLineObservations(const std::string& bytes) {
   std::map<line3D_t, std::vector<LineObservedInterval>> observations;
-  size_t offset = 0;
-  const uint64_t num_lines = ExtractValue<uint64_t>(bytes, &offset);
+  ByteReader reader(bytes);
+  const uint64_t num_lines = reader.Value<uint64_t>();
   for (uint64_t i = 0; i < num_lines; ++i) {
-    const line3D_t line_id = ExtractValue<uint64_t>(bytes, &offset);
-    const uint64_t num_intervals = ExtractValue<uint64_t>(bytes, &offset);
+    const line3D_t line_id = reader.Value<uint64_t>();
+    const uint64_t num_intervals = reader.Value<uint64_t>();
     // Checked before anything is allocated for them.
-    THROW_CHECK(num_intervals <= (bytes.size() - offset) / kObservationBytes,
+    THROW_CHECK(num_intervals <= reader.Remaining() / kObservationBytes,
                 "Line observations from rank 0 are truncated");
     std::vector<LineObservedInterval>& intervals = observations[line_id];
     intervals.resize(num_intervals);
     for (LineObservedInterval& interval : intervals) {
-      interval.image_id = ExtractValue<uint32_t>(bytes, &offset);
-      interval.t_begin = ExtractValue<double>(bytes, &offset);
-      interval.t_end = ExtractValue<double>(bytes, &offset);
+      interval.image_id = reader.Value<uint32_t>();
+      interval.t_begin = reader.Value<double>();
+      interval.t_end = reader.Value<double>();
     }
   }
-  THROW_CHECK(offset == bytes.size(),
+  THROW_CHECK(reader.AtEnd(),
               "Line observations from rank 0 have trailing bytes");
   return observations;
 }

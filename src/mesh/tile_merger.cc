@@ -5,25 +5,11 @@
 #include <utility>
 #include <vector>
 
+#include "colmap_ext/util/byte_stream.h"
 #include "colmap_ext/util/logging.h"
 
 namespace colmap_lidar {
 namespace {
-
-// Appends / reads plain values of a byte string (the ranks of one job run
-// the same binary on the same architecture).
-template <typename T>
-void Append(const T* values, size_t count, std::string* bytes) {
-  bytes->append(reinterpret_cast<const char*>(values), count * sizeof(T));
-}
-template <typename T>
-void Extract(const std::string& bytes, size_t* offset, T* values,
-             size_t count) {
-  THROW_CHECK(count * sizeof(T) <= bytes.size() - *offset,
-              "A tile's mesh from another rank is truncated");
-  std::memcpy(values, bytes.data() + *offset, count * sizeof(T));
-  *offset += count * sizeof(T);
-}
 
 // The summary fields that travel: the counts, then the reals below.
 constexpr size_t kNumCounts = 7;
@@ -50,13 +36,14 @@ std::string SerializeMeshedTile(const MeshedTile& tile) {
   bytes.reserve(sizeof(counts) + sizeof(reals) +
                 tile.kept.vertices.size() * kVertexBytes +
                 tile.kept.faces.size() * kFaceBytes);
-  Append(counts.data(), counts.size(), &bytes);
-  Append(reals.data(), reals.size(), &bytes);
+  ByteWriter writer(&bytes);
+  writer.Values(counts.data(), counts.size());
+  writer.Values(reals.data(), reals.size());
   for (const Eigen::Vector3d& vertex : tile.kept.vertices) {
-    Append(vertex.data(), 3, &bytes);
+    writer.Values(vertex.data(), 3);
   }
   for (const std::array<uint32_t, 3>& face : tile.kept.faces) {
-    Append(face.data(), 3, &bytes);
+    writer.Values(face.data(), 3);
   }
   return bytes;
 }
@@ -64,13 +51,13 @@ std::string SerializeMeshedTile(const MeshedTile& tile) {
 MeshedTile DeserializeMeshedTile(const std::string& bytes) {
   std::array<uint64_t, kNumCounts> counts;
   std::array<double, kNumReals> reals;
-  size_t offset = 0;
-  Extract(bytes, &offset, counts.data(), counts.size());
-  Extract(bytes, &offset, reals.data(), reals.size());
+  ByteReader reader(bytes);
+  reader.Values(counts.data(), counts.size());
+  reader.Values(reals.data(), reals.size());
   const uint64_t num_vertices = counts[5];
   const uint64_t num_faces = counts[6];
   // Checked before anything is allocated for them.
-  const size_t remaining = bytes.size() - offset;
+  const size_t remaining = reader.Remaining();
   THROW_CHECK(num_vertices <= remaining / kVertexBytes &&
                   num_faces <= remaining / kFaceBytes &&
                   num_vertices * kVertexBytes + num_faces * kFaceBytes ==
@@ -96,10 +83,10 @@ MeshedTile DeserializeMeshedTile(const std::string& bytes) {
   tile.kept.vertices.resize(num_vertices);
   tile.kept.faces.resize(num_faces);
   for (Eigen::Vector3d& vertex : tile.kept.vertices) {
-    Extract(bytes, &offset, vertex.data(), 3);
+    reader.Values(vertex.data(), 3);
   }
   for (std::array<uint32_t, 3>& face : tile.kept.faces) {
-    Extract(bytes, &offset, face.data(), 3);
+    reader.Values(face.data(), 3);
   }
   tile.kept.CheckIndices();
   return tile;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <map>
@@ -14,6 +13,7 @@
 #include <Eigen/Eigenvalues>
 #include <glog/logging.h>
 
+#include "colmap_ext/util/byte_stream.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/process_group.h"
 #include "src/mesh/tile_merger.h"
@@ -370,11 +370,9 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
     if (group.IsRoot()) {
       try {
         MeshedTile result = mesh_tile(reference);
-        const std::array<double, 2> values = {
-            result.summary.distance_sigma_m,
-            result.summary.cleanup.median_edge_length_m};
-        shared.assign(reinterpret_cast<const char*>(values.data()),
-                      sizeof(values));
+        ByteWriter writer(&shared);
+        writer.Value(result.summary.distance_sigma_m);
+        writer.Value(result.summary.cleanup.median_edge_length_m);
         merger.Add(std::move(result));
       } catch (...) {
         error = std::current_exception();
@@ -382,12 +380,9 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
     }
     group.CheckAllOk(error, "meshing the reference tile");
     group.Broadcast(&shared);
-    std::array<double, 2> values;
-    THROW_CHECK(shared.size() == sizeof(values),
-                "The reference tile's sigma did not reach this rank");
-    std::memcpy(values.data(), shared.data(), sizeof(values));
-    tile_options.distance_sigma_m = values[0];
-    tile_options.cleanup_median_edge_length_m = values[1];
+    ByteReader reader(shared);
+    tile_options.distance_sigma_m = reader.Value<double>();
+    tile_options.cleanup_median_edge_length_m = reader.Value<double>();
   }
   // The other tiles, each on one rank: the fullest first, to the rank with
   // the fewest points so far (a tile's time grows with its points), the same
