@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,22 @@ PlyData ReadPly(const std::string& path);
 // "property list uchar int vertex_indices".
 void WritePly(const std::string& path, const PlyData& data,
               PlyFormat format = PlyFormat::kBinaryLittleEndian);
+
+// A vertex property of a streamed PLY.
+struct PlyProperty {
+  std::string name;
+  PlyScalarType type = PlyScalarType::kFloat32;
+};
+
+// Writes a binary little-endian PLY of `num_vertices` vertices (no faces)
+// atomically, the bytes WritePly would write for the same columns, without
+// holding the vertices: fill(i, values) sets vertex i's values, one per
+// property in order. Throws naming the path and the property when a value
+// does not fit its type; the file is then not written.
+void WritePlyVertices(
+    const std::string& path, const std::vector<PlyProperty>& properties,
+    size_t num_vertices,
+    const std::function<void(size_t vertex, double* values)>& fill);
 
 // A point of COLMAP's fused.ply.
 struct PlyPoint {

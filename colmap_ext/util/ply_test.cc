@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 
@@ -158,6 +159,68 @@ TEST(Ply, WriteRejectsValuesOutsideTheType) {
   faces.AddColumn("x", PlyScalarType::kFloat32, {0, 1});
   faces.faces = {{0, 1, 2}};
   ExpectErrorContaining([&] { WritePly(path, faces); }, {path});
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(file), {});
+}
+
+// Bodies past the writer's 1 MiB buffer: the streamed writer and WritePly
+// give the same bytes, and they read back.
+TEST(Ply, StreamedVerticesAreWritePlysBytes) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-50.0, 50.0);
+  const size_t num_vertices = 70000;  // 70000 x 21 bytes: 1.47 MB.
+  std::vector<double> x(num_vertices), y(num_vertices), red(num_vertices),
+      distance(num_vertices);
+  for (size_t i = 0; i < num_vertices; ++i) {
+    x[i] = uniform(rng);
+    y[i] = uniform(rng);
+    red[i] = static_cast<double>(i % 256);
+    distance[i] = std::abs(uniform(rng));
+  }
+  PlyData data;
+  data.AddColumn("x", PlyScalarType::kFloat64, x);
+  data.AddColumn("y", PlyScalarType::kFloat32, y);
+  data.AddColumn("red", PlyScalarType::kUInt8, red);
+  data.AddColumn("distance", PlyScalarType::kFloat64, distance);
+  const std::string dir = testing::CreateTestDir();
+  const std::string whole_path = JoinPaths(dir, "whole.ply");
+  const std::string streamed_path = JoinPaths(dir, "streamed.ply");
+  WritePly(whole_path, data);
+  WritePlyVertices(streamed_path,
+                   {{"x", PlyScalarType::kFloat64},
+                    {"y", PlyScalarType::kFloat32},
+                    {"red", PlyScalarType::kUInt8},
+                    {"distance", PlyScalarType::kFloat64}},
+                   num_vertices, [&](size_t i, double* values) {
+                     values[0] = x[i];
+                     values[1] = y[i];
+                     values[2] = red[i];
+                     values[3] = distance[i];
+                   });
+  const std::string whole = ReadAll(whole_path);
+  EXPECT_GT(whole.size(), size_t{1} << 20);
+  EXPECT_EQ(ReadAll(streamed_path), whole);
+  ExpectSameData(data, ReadPly(streamed_path));
+
+  // A value outside its type names the file and the property; no file.
+  const std::string bad_path = JoinPaths(dir, "bad.ply");
+  ExpectErrorContaining(
+      [&] {
+        WritePlyVertices(bad_path, {{"red", PlyScalarType::kUInt8}},
+                         num_vertices, [&](size_t i, double* values) {
+                           values[0] = i == num_vertices - 1 ? 300.0 : 1.0;
+                         });
+      },
+      {bad_path, "red"});
+  EXPECT_FALSE(ExistsFile(bad_path));
+  ExpectErrorContaining(
+      [&] {
+        WritePlyVertices(bad_path, {}, 1, [](size_t, double*) {});
+      },
+      {bad_path});
 }
 
 TEST(Ply, HandWrittenBigEndianWithCommentsAndListCounts) {
@@ -421,6 +484,15 @@ TEST(Ply, ColmapPlyPointsLayoutAndRoundTrip) {
   const std::string rewritten = JoinPaths(dir, "rewritten.ply");
   WriteColmapPlyPoints(rewritten, read);
   EXPECT_EQ(ReadTextFile(rewritten), content);
+
+  // Past the writer's 1 MiB buffer (50000 x 27 bytes): every record lands.
+  const std::vector<PlyPoint> many = MakeSpherePoints(50000);
+  const std::string many_path = JoinPaths(dir, "many.ply");
+  WriteColmapPlyPoints(many_path, many);
+  const std::vector<PlyPoint> many_read = ReadPlyPoints(many_path);
+  ASSERT_EQ(many_read.size(), many.size());
+  EXPECT_EQ(many_read.back().xyz, many.back().xyz);
+  EXPECT_EQ(many_read[30000].normal, many[30000].normal);
 
   // An empty cloud is a valid file (COLMAP writes those too).
   const std::string empty = JoinPaths(dir, "empty.ply");

@@ -129,6 +129,38 @@ void AppendAscii(double value, PlyScalarType type, std::ostream* stream) {
   }
 }
 
+// Bodies are written through a buffer of about this size, so that writing
+// a file never holds a second copy of it (a 600-frame recording's fused
+// LIDAR cloud is 1 GB of records).
+constexpr size_t kFlushBytes = size_t{1} << 20;
+
+void FlushIfFull(std::string* buffer, std::ostream* stream, bool force) {
+  if (force || buffer->size() >= kFlushBytes) {
+    stream->write(buffer->data(), static_cast<std::streamsize>(buffer->size()));
+    buffer->clear();
+  }
+}
+
+std::string PlyHeaderText(PlyFormat format, size_t num_vertices,
+                          const std::vector<PlyProperty>& properties,
+                          size_t num_faces) {
+  std::ostringstream header;
+  header << "ply\n";
+  header << (format == PlyFormat::kAscii ? "format ascii 1.0\n"
+                                         : "format binary_little_endian 1.0\n");
+  header << "element vertex " << num_vertices << "\n";
+  for (const PlyProperty& property : properties) {
+    header << "property " << ScalarTypeName(property.type) << " "
+           << property.name << "\n";
+  }
+  if (num_faces > 0) {
+    header << "element face " << num_faces << "\n";
+    header << "property list uchar int vertex_indices\n";
+  }
+  header << "end_header\n";
+  return header.str();
+}
+
 }  // namespace
 
 void WritePly(const std::string& path, const PlyData& data, PlyFormat format) {
@@ -158,23 +190,15 @@ void WritePly(const std::string& path, const PlyData& data, PlyFormat format) {
     }
   }
 
-  std::ostringstream header;
-  header << "ply\n";
-  header << (format == PlyFormat::kAscii ? "format ascii 1.0\n"
-                                         : "format binary_little_endian 1.0\n");
-  header << "element vertex " << num_vertices << "\n";
+  std::vector<PlyProperty> properties;
   for (const PlyColumn& column : data.vertex_columns) {
-    header << "property " << ScalarTypeName(column.type) << " " << column.name
-           << "\n";
+    properties.push_back({column.name, column.type});
   }
-  if (!data.faces.empty()) {
-    header << "element face " << data.faces.size() << "\n";
-    header << "property list uchar int vertex_indices\n";
-  }
-  header << "end_header\n";
+  const std::string header =
+      PlyHeaderText(format, num_vertices, properties, data.faces.size());
 
   WriteFileAtomically(path, [&](std::ostream& stream) {
-    stream << header.str();
+    stream << header;
     if (format == PlyFormat::kAscii) {
       for (size_t i = 0; i < num_vertices; ++i) {
         for (size_t c = 0; c < data.vertex_columns.size(); ++c) {
@@ -199,14 +223,16 @@ void WritePly(const std::string& path, const PlyData& data, PlyFormat format) {
         for (const PlyColumn& column : data.vertex_columns) {
           AppendBinary(column.values[i], column.type, &buffer);
         }
+        FlushIfFull(&buffer, &stream, /*force=*/false);
       }
       for (const std::vector<uint32_t>& face : data.faces) {
         AppendLittleEndian(static_cast<uint8_t>(face.size()), &buffer);
         for (const uint32_t index : face) {
           AppendLittleEndian(static_cast<int32_t>(index), &buffer);
         }
+        FlushIfFull(&buffer, &stream, /*force=*/false);
       }
-      stream.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      FlushIfFull(&buffer, &stream, /*force=*/true);
     }
   });
 }
@@ -229,20 +255,44 @@ void WriteColmapPlyPoints(const std::string& path,
   buffer += "property uchar green\n";
   buffer += "property uchar blue\n";
   buffer += "end_header\n";
-  buffer.reserve(buffer.size() + points.size() * 27);
-  for (const PlyPoint& point : points) {
-    for (int i = 0; i < 3; ++i) {
-      AppendLittleEndian(point.xyz(i), &buffer);
-    }
-    for (int i = 0; i < 3; ++i) {
-      AppendLittleEndian(point.normal(i), &buffer);
-    }
-    for (int i = 0; i < 3; ++i) {
-      AppendLittleEndian(point.rgb[i], &buffer);
-    }
-  }
   WriteFileAtomically(path, [&](std::ostream& stream) {
-    stream.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    for (const PlyPoint& point : points) {
+      for (int i = 0; i < 3; ++i) {
+        AppendLittleEndian(point.xyz(i), &buffer);
+      }
+      for (int i = 0; i < 3; ++i) {
+        AppendLittleEndian(point.normal(i), &buffer);
+      }
+      for (int i = 0; i < 3; ++i) {
+        AppendLittleEndian(point.rgb[i], &buffer);
+      }
+      FlushIfFull(&buffer, &stream, /*force=*/false);
+    }
+    FlushIfFull(&buffer, &stream, /*force=*/true);
+  });
+}
+
+void WritePlyVertices(
+    const std::string& path, const std::vector<PlyProperty>& properties,
+    size_t num_vertices,
+    const std::function<void(size_t vertex, double* values)>& fill) {
+  THROW_CHECK(!properties.empty(), "No vertex property writing " << path);
+  const std::string header = PlyHeaderText(PlyFormat::kBinaryLittleEndian,
+                                           num_vertices, properties, 0);
+  WriteFileAtomically(path, [&](std::ostream& stream) {
+    stream << header;
+    std::vector<double> values(properties.size());
+    std::string buffer;
+    for (size_t i = 0; i < num_vertices; ++i) {
+      fill(i, values.data());
+      for (size_t c = 0; c < properties.size(); ++c) {
+        CheckRepresentable(values[c], properties[c].type, properties[c].name,
+                           path);
+        AppendBinary(values[c], properties[c].type, &buffer);
+      }
+      FlushIfFull(&buffer, &stream, /*force=*/false);
+    }
+    FlushIfFull(&buffer, &stream, /*force=*/true);
   });
 }
 

@@ -9,6 +9,10 @@
 
 #include <sys/resource.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace colmap_lidar {
 namespace {
 
@@ -53,6 +57,13 @@ double ProcessCpuSeconds() {
 
 bool ResetPeakMemory() {
   child_peak_bytes = 0;
+#if defined(__GLIBC__)
+  // glibc keeps freed small blocks in its arenas (only the top of a heap
+  // goes back by itself): what an earlier stage freed would stay resident
+  // and count in the next stage's peak, and crowd the stock colmap children
+  // that the next stage starts.
+  malloc_trim(0);
+#endif
   std::ofstream clear_refs("/proc/self/clear_refs");
   if (!clear_refs) {
     return false;

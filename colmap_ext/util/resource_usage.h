@@ -23,7 +23,8 @@ size_t ProcessPeakMemoryBytes();
 // for, seconds.
 double ProcessCpuSeconds();
 
-// Resets this process's VmHWM to its current resident size and the child
+// Returns the heap's free pages to the system (glibc's malloc_trim), then
+// resets this process's VmHWM to its current resident size and the child
 // peak below to 0. Returns false when the kernel does not allow the reset
 // (the process peak then stays cumulative).
 bool ResetPeakMemory();

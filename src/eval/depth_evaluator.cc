@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <sstream>
+#include <utility>
 
 #include "colmap_ext/mvs/workspace.h"
 #include "colmap_ext/util/file.h"
@@ -164,18 +167,6 @@ bool DepthEvaluationOptions::Check() const {
   return true;
 }
 
-void DepthErrors::Append(const DepthErrors& other) {
-  num_pixels += other.num_pixels;
-  num_truth_valid += other.num_truth_valid;
-  num_covered += other.num_covered;
-  num_without_truth += other.num_without_truth;
-  abs_errors_m.insert(abs_errors_m.end(), other.abs_errors_m.begin(),
-                      other.abs_errors_m.end());
-  surface_errors_m.insert(surface_errors_m.end(),
-                          other.surface_errors_m.begin(),
-                          other.surface_errors_m.end());
-}
-
 DepthStats ComputeDepthStats(const DepthErrors& errors,
                              const std::vector<double>& thresholds_m) {
   DepthStats stats;
@@ -218,6 +209,124 @@ DepthStats ComputeDepthStats(const DepthErrors& errors,
                                                sorted.begin() + middle));
   }
   stats.median_abs_error_m = median;
+  return stats;
+}
+
+namespace {
+
+// A non-negative float's bit pattern grows with its value; its top 20 bits
+// (the sign bit is cleared) index the histogram.
+constexpr int kHistogramShift = 11;
+constexpr size_t kNumHistogramBins = size_t{1} << 20;
+
+uint32_t FloatBits(float value) {
+  uint32_t bits;
+  std::memcpy(&bits, &value, sizeof(bits));
+  return bits & 0x7FFFFFFFu;
+}
+
+float FloatFromBits(uint32_t bits) {
+  float value;
+  std::memcpy(&value, &bits, sizeof(value));
+  return value;
+}
+
+size_t HistogramBin(float value) {
+  return std::min<size_t>(FloatBits(value) >> kHistogramShift,
+                          kNumHistogramBins - 1);
+}
+
+}  // namespace
+
+DepthErrorAccumulator::DepthErrorAccumulator(std::vector<double> thresholds_m,
+                                             size_t num_slots)
+    : thresholds_m_(std::move(thresholds_m)),
+      num_within_(thresholds_m_.size(), 0),
+      num_surface_within_(thresholds_m_.size(), 0),
+      slot_sums_m_(num_slots, 0.0),
+      slot_used_(num_slots, 0),
+      histogram_(kNumHistogramBins, 0) {}
+
+void DepthErrorAccumulator::Add(size_t slot, const DepthErrors& errors) {
+  THROW_CHECK(slot < slot_sums_m_.size() && !slot_used_[slot],
+              "Depth error slot " << slot << " of " << slot_sums_m_.size()
+                                  << " out of range or added twice");
+  slot_used_[slot] = 1;
+  num_pixels_ += errors.num_pixels;
+  num_truth_valid_ += errors.num_truth_valid;
+  num_covered_ += errors.num_covered;
+  num_without_truth_ += errors.num_without_truth;
+  const std::vector<float>& values = errors.abs_errors_m;
+  num_errors_ += values.size();
+  // As ComputeDepthStats sums: in the map's pixel order, in double.
+  slot_sums_m_[slot] = std::accumulate(values.begin(), values.end(), 0.0);
+  const bool has_surface = errors.surface_errors_m.size() == values.size();
+  all_have_surface_errors_ = all_have_surface_errors_ && has_surface;
+  for (size_t i = 0; i < thresholds_m_.size(); ++i) {
+    const double threshold = thresholds_m_[i];
+    num_within_[i] += std::count_if(values.begin(), values.end(),
+                                    [&](float e) { return e < threshold; });
+    if (has_surface) {
+      num_surface_within_[i] += std::count_if(
+          errors.surface_errors_m.begin(), errors.surface_errors_m.end(),
+          [&](float e) { return e < threshold; });
+    }
+  }
+  for (const float value : values) {
+    ++histogram_[HistogramBin(value)];
+  }
+}
+
+double DepthErrorAccumulator::ValueAtRank(size_t rank) const {
+  THROW_CHECK(rank < num_errors_,
+              "Rank " << rank << " of " << num_errors_ << " depth errors");
+  size_t before = 0;
+  for (size_t bin = 0; bin < histogram_.size(); ++bin) {
+    const size_t count = histogram_[bin];
+    if (rank < before + count) {
+      const double low =
+          FloatFromBits(static_cast<uint32_t>(bin << kHistogramShift));
+      const double high =
+          FloatFromBits(static_cast<uint32_t>((bin + 1) << kHistogramShift));
+      // The bin's values taken as spread evenly over it.
+      const double fraction =
+          (static_cast<double>(rank - before) + 0.5) / static_cast<double>(count);
+      return low + fraction * (high - low);
+    }
+    before += count;
+  }
+  return 0.0;  // Not reached: rank < num_errors_.
+}
+
+DepthStats DepthErrorAccumulator::Stats() const {
+  DepthStats stats;
+  stats.num_pixels = num_pixels_;
+  stats.num_truth_valid = num_truth_valid_;
+  stats.num_covered = num_covered_;
+  stats.num_without_truth = num_without_truth_;
+  stats.thresholds_m = thresholds_m_;
+  stats.within.assign(thresholds_m_.size(), 0.0);
+  if (num_truth_valid_ > 0) {
+    stats.coverage = static_cast<double>(num_covered_) /
+                     static_cast<double>(num_truth_valid_);
+  }
+  if (num_errors_ == 0) return stats;
+  const double count = static_cast<double>(num_errors_);
+  stats.surface_within.assign(thresholds_m_.size(), 0.0);
+  for (size_t i = 0; i < thresholds_m_.size(); ++i) {
+    stats.within[i] = static_cast<double>(num_within_[i]) / count;
+    if (all_have_surface_errors_) {
+      stats.surface_within[i] =
+          static_cast<double>(num_surface_within_[i]) / count;
+    }
+  }
+  stats.mean_abs_error_m =
+      std::accumulate(slot_sums_m_.begin(), slot_sums_m_.end(), 0.0) / count;
+  const size_t middle = num_errors_ / 2;
+  stats.median_abs_error_m =
+      num_errors_ % 2 == 0
+          ? 0.5 * (ValueAtRank(middle - 1) + ValueAtRank(middle))
+          : ValueAtRank(middle);
   return stats;
 }
 
@@ -355,9 +464,14 @@ DepthEvaluation EvaluateDepthMaps(const std::string& dense_path,
   }
 
   const std::vector<Eigen::Vector3d> truth_rays = TruthPixelRays(truth_camera);
-  // errors[image][type].
-  std::vector<std::vector<DepthErrors>> errors(
-      images.size(), std::vector<DepthErrors>(types.size()));
+  // Each image's errors are reduced to its figures as soon as they are
+  // computed; the overall figures accumulate without the pixels.
+  std::vector<DepthErrorAccumulator> overall;
+  for (size_t t = 0; t < types.size(); ++t) {
+    overall.emplace_back(options.thresholds_m, images.size());
+  }
+  std::mutex overall_mutex;
+  evaluation.images.resize(images.size());
   ParallelFor(0, static_cast<int>(images.size()), options.num_threads,
               [&](int i) {
                 const Image& image = *images[i];
@@ -369,36 +483,31 @@ DepthEvaluation EvaluateDepthMaps(const std::string& dense_path,
                 const Camera& camera = camera_it->second;
                 const DepthMap truth = DepthMap::Read(JoinPaths(
                     truth_dir, FrameOfImage(image.name) + ".bin"));
+                DepthImageEvaluation& image_evaluation =
+                    evaluation.images[i];
+                image_evaluation.image_name = image.name;
                 for (size_t t = 0; t < types.size(); ++t) {
                   const std::string path =
                       workspace.DepthMapPath(image.name, types[t]);
-                  if (!ExistsFile(path)) continue;
-                  const DepthMap estimate = DepthMap::Read(path);
-                  const Eigen::Matrix3d K = ScaleCalibrationToMap(
-                      camera.CalibrationMatrix(), camera.width, camera.height,
-                      estimate.GetWidth(), estimate.GetHeight());
-                  errors[i][t] = CompareDepthMaps(estimate, K, truth,
-                                                  truth_camera, options,
-                                                  &truth_rays);
+                  DepthErrors errors;
+                  if (ExistsFile(path)) {
+                    const DepthMap estimate = DepthMap::Read(path);
+                    const Eigen::Matrix3d K = ScaleCalibrationToMap(
+                        camera.CalibrationMatrix(), camera.width,
+                        camera.height, estimate.GetWidth(),
+                        estimate.GetHeight());
+                    errors = CompareDepthMaps(estimate, K, truth,
+                                              truth_camera, options,
+                                              &truth_rays);
+                  }
+                  image_evaluation.stats.push_back(
+                      ComputeDepthStats(errors, options.thresholds_m));
+                  std::lock_guard<std::mutex> lock(overall_mutex);
+                  overall[t].Add(static_cast<size_t>(i), errors);
                 }
               });
-
-  evaluation.overall.resize(types.size());
-  for (size_t t = 0; t < types.size(); ++t) {
-    DepthErrors all;
-    for (size_t i = 0; i < images.size(); ++i) {
-      all.Append(errors[i][t]);
-    }
-    evaluation.overall[t] = ComputeDepthStats(all, options.thresholds_m);
-  }
-  for (size_t i = 0; i < images.size(); ++i) {
-    DepthImageEvaluation image;
-    image.image_name = images[i]->name;
-    for (size_t t = 0; t < types.size(); ++t) {
-      image.stats.push_back(
-          ComputeDepthStats(errors[i][t], options.thresholds_m));
-    }
-    evaluation.images.push_back(std::move(image));
+  for (const DepthErrorAccumulator& accumulator : overall) {
+    evaluation.overall.push_back(accumulator.Stats());
   }
   return evaluation;
 }

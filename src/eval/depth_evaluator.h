@@ -29,11 +29,15 @@
 //                grazing incidence a large depth error is a small offset
 //                from the surface (ground 20 m ahead of a camera 1.5 m up:
 //                5 cm of depth is 4 mm off the ground);
-//   median / mean absolute error over covered pixels;
+//   median / mean absolute error over covered pixels (per image exact; the
+//                overall median read off a histogram, within 0.025 %, so
+//                that no pixel is held past its image: see
+//                DepthErrorAccumulator);
 //   num_without_truth = pixels where we have a depth and the truth sees
 //                nothing (sky, beyond the scene): invented depth.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -77,8 +81,6 @@ struct DepthErrors {
   std::vector<float> abs_errors_m;
   // Their distances to the true surface's tangent plane (parallel).
   std::vector<float> surface_errors_m;
-
-  void Append(const DepthErrors& other);
 };
 
 struct DepthStats {
@@ -98,6 +100,51 @@ struct DepthStats {
 
 DepthStats ComputeDepthStats(const DepthErrors& errors,
                              const std::vector<double>& thresholds_m);
+
+// The overall figures of many maps without keeping their pixels (a 600-frame
+// recording has 5e8 covered pixels per map type: 4 GB of errors): counts
+// and shares exact; the mean's sum taken per map and added in slot order,
+// so that it does not depend on the order of the calls (threads); the
+// median read off a histogram of the errors' float bit patterns (the top 20
+// bits of a non-negative float: its exponent and 12 bits of its mantissa),
+// 2^20 bins each at most 2^-12 of its value wide, interpolated by rank
+// within its bin: within 0.025 % of the exact median. 8 MiB whatever the
+// number of maps.
+class DepthErrorAccumulator {
+ public:
+  // `num_slots`: one per map that may be added (e.g. per image).
+  DepthErrorAccumulator(std::vector<double> thresholds_m, size_t num_slots);
+
+  // Adds one map's errors in slot `slot` (< num_slots, each slot once).
+  // Not thread-safe: callers serialize.
+  void Add(size_t slot, const DepthErrors& errors);
+
+  // The figures over everything added, as ComputeDepthStats of all the
+  // errors appended would give them but for the median's rounding.
+  DepthStats Stats() const;
+
+  // The value of the 0-based `rank` in the sorted errors, from the histogram
+  // (rank < the number of errors added).
+  double ValueAtRank(size_t rank) const;
+
+ private:
+  std::vector<double> thresholds_m_;
+  size_t num_pixels_ = 0;
+  size_t num_truth_valid_ = 0;
+  size_t num_covered_ = 0;
+  size_t num_without_truth_ = 0;
+  size_t num_errors_ = 0;
+  // Per threshold: errors below it, surface errors below it.
+  std::vector<size_t> num_within_;
+  std::vector<size_t> num_surface_within_;
+  // Whether every map added had a surface error per pixel.
+  bool all_have_surface_errors_ = true;
+  // Per slot: the sum of its absolute errors, metres.
+  std::vector<double> slot_sums_m_;
+  std::vector<char> slot_used_;
+  // Counts per bin of the errors' bit patterns >> kHistogramShift.
+  std::vector<uint64_t> histogram_;
+};
 
 // Compares `estimate` (K_estimate at the estimate's resolution, MVS pixel
 // convention) with `truth` taken by `truth_camera` (its full resolution;

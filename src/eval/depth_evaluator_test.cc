@@ -1,6 +1,9 @@
 #include "src/eval/depth_evaluator.h"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -319,6 +322,104 @@ TEST(DepthEvaluator, FilesAndJson) {
   options.map_types = {"fused"};
   EXPECT_FALSE(options.Check());
   EXPECT_THROW(EvaluateDepthMaps(dense, dataset, options), Error);
+}
+
+// Random per-map errors spanning four decades, the way depth errors do
+// (most below a centimetre, a tail of metres).
+DepthErrors RandomErrors(std::mt19937* rng, size_t count) {
+  std::lognormal_distribution<float> error_m(std::log(0.007f), 1.5f);
+  std::uniform_real_distribution<float> cosine(0.05f, 1.0f);
+  DepthErrors errors;
+  errors.num_pixels = count + 17;
+  errors.num_truth_valid = count + 5;
+  errors.num_covered = count;
+  errors.num_without_truth = 3;
+  for (size_t i = 0; i < count; ++i) {
+    const float error = error_m(*rng);
+    errors.abs_errors_m.push_back(error);
+    errors.surface_errors_m.push_back(error * cosine(*rng));
+  }
+  return errors;
+}
+
+TEST(DepthErrorAccumulator, MatchesTheFiguresOfAllErrorsTogether) {
+  const std::vector<double> thresholds_m = {0.02, 0.05, 0.1};
+  std::mt19937 rng(7);
+  std::vector<DepthErrors> maps;
+  DepthErrors all;
+  for (const size_t count : {20000u, 1u, 0u, 33333u, 4096u}) {
+    maps.push_back(RandomErrors(&rng, count));
+    const DepthErrors& map = maps.back();
+    all.num_pixels += map.num_pixels;
+    all.num_truth_valid += map.num_truth_valid;
+    all.num_covered += map.num_covered;
+    all.num_without_truth += map.num_without_truth;
+    all.abs_errors_m.insert(all.abs_errors_m.end(), map.abs_errors_m.begin(),
+                            map.abs_errors_m.end());
+    all.surface_errors_m.insert(all.surface_errors_m.end(),
+                                map.surface_errors_m.begin(),
+                                map.surface_errors_m.end());
+  }
+  const DepthStats exact = ComputeDepthStats(all, thresholds_m);
+
+  DepthErrorAccumulator forward(thresholds_m, maps.size());
+  for (size_t i = 0; i < maps.size(); ++i) forward.Add(i, maps[i]);
+  const DepthStats stats = forward.Stats();
+  EXPECT_EQ(stats.num_pixels, exact.num_pixels);
+  EXPECT_EQ(stats.num_truth_valid, exact.num_truth_valid);
+  EXPECT_EQ(stats.num_covered, exact.num_covered);
+  EXPECT_EQ(stats.num_without_truth, exact.num_without_truth);
+  EXPECT_EQ(stats.coverage, exact.coverage);
+  EXPECT_EQ(stats.within, exact.within);
+  EXPECT_EQ(stats.surface_within, exact.surface_within);
+  EXPECT_NEAR(stats.mean_abs_error_m, exact.mean_abs_error_m,
+              1e-12 * exact.mean_abs_error_m);
+  EXPECT_NE(stats.median_abs_error_m, 0.0);
+  EXPECT_NEAR(stats.median_abs_error_m, exact.median_abs_error_m,
+              2.5e-4 * exact.median_abs_error_m);
+
+  // Any order of the maps (threads) gives the same figures, bit for bit.
+  DepthErrorAccumulator backward(thresholds_m, maps.size());
+  for (size_t i = maps.size(); i-- > 0;) backward.Add(i, maps[i]);
+  const DepthStats reversed = backward.Stats();
+  EXPECT_EQ(reversed.mean_abs_error_m, stats.mean_abs_error_m);
+  EXPECT_EQ(reversed.median_abs_error_m, stats.median_abs_error_m);
+
+  // Ranks read off the histogram are ordered and within their bin.
+  std::vector<float> sorted = all.abs_errors_m;
+  std::sort(sorted.begin(), sorted.end());
+  double previous = 0.0;
+  for (size_t rank = 0; rank < sorted.size(); rank += 997) {
+    const double value = forward.ValueAtRank(rank);
+    EXPECT_GE(value, previous);
+    EXPECT_NEAR(value, sorted[rank], 2.5e-4 * sorted[rank]);
+    previous = value;
+  }
+  EXPECT_THROW(forward.ValueAtRank(sorted.size()), Error);
+
+  // Each slot once, and only the slots asked for.
+  EXPECT_THROW(forward.Add(0, maps[0]), Error);
+  EXPECT_THROW(forward.Add(maps.size(), maps[0]), Error);
+}
+
+TEST(DepthErrorAccumulator, NothingAddedAndTinyErrors) {
+  DepthErrorAccumulator empty({0.05}, 2);
+  const DepthStats none = empty.Stats();
+  EXPECT_EQ(none.num_covered, 0u);
+  EXPECT_EQ(none.coverage, 0.0);
+  EXPECT_EQ(none.within, std::vector<double>({0.0}));
+
+  // Exact zeros (a perfect map) and a value at the histogram's top.
+  DepthErrors errors;
+  errors.num_pixels = errors.num_truth_valid = errors.num_covered = 3;
+  errors.abs_errors_m = {0.0f, 0.0f, 1e30f};
+  errors.surface_errors_m = errors.abs_errors_m;
+  DepthErrorAccumulator accumulator({0.05}, 1);
+  accumulator.Add(0, errors);
+  const DepthStats stats = accumulator.Stats();
+  EXPECT_LT(stats.median_abs_error_m, 1e-40);
+  EXPECT_NEAR(accumulator.ValueAtRank(2), 1e30, 1e27);
+  EXPECT_NEAR(stats.within[0], 2.0 / 3.0, 1e-15);
 }
 
 }  // namespace

@@ -39,29 +39,27 @@ void WriteDistanceColoredPly(const std::string& path,
                                          << " points, " << distances.size()
                                          << " distances, " << included.size()
                                          << " flags");
-  const size_t n = points.size();
-  std::vector<double> x(n), y(n), z(n), red(n), green(n), blue(n);
-  for (size_t i = 0; i < n; ++i) {
-    x[i] = points[i].x();
-    y[i] = points[i].y();
-    z[i] = points[i].z();
-    Vector3ub color(kExcludedGrey, kExcludedGrey, kExcludedGrey);
-    if (included.empty() || included[i]) {
-      color = DistanceColor(distances[i], color_threshold);
-    }
-    red[i] = color[0];
-    green[i] = color[1];
-    blue[i] = color[2];
-  }
-  PlyData data;
-  data.AddColumn("x", PlyScalarType::kFloat64, std::move(x));
-  data.AddColumn("y", PlyScalarType::kFloat64, std::move(y));
-  data.AddColumn("z", PlyScalarType::kFloat64, std::move(z));
-  data.AddColumn("red", PlyScalarType::kUInt8, std::move(red));
-  data.AddColumn("green", PlyScalarType::kUInt8, std::move(green));
-  data.AddColumn("blue", PlyScalarType::kUInt8, std::move(blue));
-  data.AddColumn("distance", PlyScalarType::kFloat64, distances);
-  WritePly(path, data, PlyFormat::kBinaryLittleEndian);
+  // Streamed: a 200-frame mesh has 14 M samples, 0.5 GB of records.
+  const std::vector<PlyProperty> properties = {
+      {"x", PlyScalarType::kFloat64},      {"y", PlyScalarType::kFloat64},
+      {"z", PlyScalarType::kFloat64},      {"red", PlyScalarType::kUInt8},
+      {"green", PlyScalarType::kUInt8},    {"blue", PlyScalarType::kUInt8},
+      {"distance", PlyScalarType::kFloat64}};
+  WritePlyVertices(path, properties, points.size(),
+                   [&](size_t i, double* values) {
+                     Vector3ub color(kExcludedGrey, kExcludedGrey,
+                                     kExcludedGrey);
+                     if (included.empty() || included[i]) {
+                       color = DistanceColor(distances[i], color_threshold);
+                     }
+                     values[0] = points[i].x();
+                     values[1] = points[i].y();
+                     values[2] = points[i].z();
+                     values[3] = color[0];
+                     values[4] = color[1];
+                     values[5] = color[2];
+                     values[6] = distances[i];
+                   });
 }
 
 }  // namespace colmap_lidar

@@ -28,13 +28,7 @@ void CheckFinite(const std::vector<Eigen::Vector3d>& points,
 
 std::vector<Eigen::Vector3d> ReadPlyPositions(const std::string& path,
                                               const std::string& what) {
-  CheckFileExists(path, what);
-  const PlyData data = ReadPly(path);
-  THROW_CHECK(data.NumVertices() > 0,
-              what << " " << path << " has no vertices");
-  std::vector<Eigen::Vector3d> points = data.Positions(path);
-  CheckFinite(points, what + " " + path);
-  return points;
+  return ReadEvaluationMesh(path, what).vertices;
 }
 
 }  // namespace
@@ -240,18 +234,13 @@ MeshEvaluation EvaluateMeshFiles(
     const Eigen::Affine3d& reference_from_estimate) {
   THROW_CHECK(options.Check(), "Invalid MeshEvaluation options");
   CheckFileExists(estimate_path, "Estimate mesh or point cloud");
-  const PlyData estimate = ReadPly(estimate_path);
-  THROW_CHECK(estimate.NumVertices() > 0,
-              "Estimate " << estimate_path
-                          << " has no vertices (and hence no faces)");
-  std::vector<Eigen::Vector3d> vertices = estimate.Positions(estimate_path);
-  CheckFinite(vertices, "Estimate " + estimate_path);
+  EvaluationMesh estimate = ReadEvaluationMesh(estimate_path, "Estimate");
+  std::vector<Eigen::Vector3d>& vertices = estimate.vertices;
+  const std::vector<Eigen::Vector3i>& triangles = estimate.triangles;
   for (Eigen::Vector3d& vertex : vertices) {
     vertex = reference_from_estimate * vertex;
   }
-  const std::vector<Eigen::Vector3i> triangles = TriangulatePolygons(
-      estimate.faces, vertices.size(), estimate_path);
-  if (!estimate.faces.empty() && triangles.empty()) {
+  if (estimate.has_faces && triangles.empty()) {
     LOG(WARNING) << estimate_path
                  << " has faces but none with 3 or more vertices; using its "
                     "vertices as a point cloud";

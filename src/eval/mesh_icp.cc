@@ -289,25 +289,15 @@ MeshIcpResult RefineMeshAlignmentIcpFiles(
   THROW_CHECK(options.Check(), "Invalid MeshIcp options");
   CheckFileExists(estimate_path, "Estimate mesh or point cloud");
   CheckFileExists(reference_path, "Reference cloud");
-  const PlyData estimate = ReadPly(estimate_path);
-  THROW_CHECK(estimate.NumVertices() > 0,
-              "Estimate " << estimate_path << " has no vertices");
-  std::vector<Eigen::Vector3d> vertices = estimate.Positions(estimate_path);
-  for (Eigen::Vector3d& vertex : vertices) {
-    THROW_CHECK(vertex.allFinite(),
-                "Estimate " << estimate_path << " has a non-finite vertex");
+  EvaluationMesh estimate = ReadEvaluationMesh(estimate_path, "Estimate");
+  for (Eigen::Vector3d& vertex : estimate.vertices) {
     vertex = reference_from_estimate * vertex;
   }
-  const std::vector<Eigen::Vector3i> triangles =
-      TriangulatePolygons(estimate.faces, vertices.size(), estimate_path);
-  const PlyData reference_ply = ReadPly(reference_path);
-  THROW_CHECK(reference_ply.NumVertices() > 0,
-              "Reference cloud " << reference_path << " has no vertices");
   const std::vector<Eigen::Vector3d> reference =
-      reference_ply.Positions(reference_path);
-  return RefineMeshAlignmentIcp(vertices, triangles, reference,
-                                evaluation_threshold_m, crop_margin_m,
-                                options);
+      ReadEvaluationMesh(reference_path, "Reference cloud").vertices;
+  return RefineMeshAlignmentIcp(estimate.vertices, estimate.triangles,
+                                reference, evaluation_threshold_m,
+                                crop_margin_m, options);
 }
 
 std::string FormatMeshIcpResult(const MeshIcpResult& result) {

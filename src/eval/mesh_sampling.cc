@@ -8,7 +8,9 @@
 
 #include <Eigen/Geometry>
 
+#include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
 
 namespace colmap_lidar {
 
@@ -69,6 +71,27 @@ uint64_t TriangleSeed(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 
 }  // namespace
 
+EvaluationMesh ReadEvaluationMesh(const std::string& path,
+                                  const std::string& what) {
+  CheckFileExists(path, what);
+  EvaluationMesh mesh;
+  {
+    const PlyData data = ReadPly(path);
+    THROW_CHECK(data.NumVertices() > 0,
+                what << " " << path << " has no vertices (and hence no faces)");
+    mesh.vertices = data.Positions(path);
+    mesh.triangles =
+        TriangulatePolygons(data.faces, mesh.vertices.size(), path);
+    mesh.has_faces = !data.faces.empty();
+  }
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    THROW_CHECK(mesh.vertices[i].allFinite(),
+                what << " " << path << ": vertex " << i
+                     << " has a non-finite coordinate");
+  }
+  return mesh;
+}
+
 double TriangleMeshArea(const std::vector<Eigen::Vector3d>& vertices,
                         const std::vector<Eigen::Vector3i>& triangles) {
   double area = 0.0;
@@ -93,7 +116,14 @@ std::vector<Eigen::Vector3d> SampleTriangleMesh(
                   << " samples asked (area x density); at most "
                   << kMaxSamples);
   if (expected_total > 0) {
-    samples.reserve(static_cast<size_t>(expected_total) + 1);
+    // Each triangle rounds its share up or down at random: the total
+    // exceeds its expectation by a sum of triangles.size() terms of at most
+    // 1/2 standard deviation each. Eight of the sum's standard deviations
+    // of headroom, so that the array is not reallocated (and doubled) half
+    // of the time.
+    const double headroom =
+        4.0 * std::sqrt(static_cast<double>(triangles.size())) + 1.0;
+    samples.reserve(static_cast<size_t>(expected_total + headroom));
   }
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   size_t largest = triangles.size();

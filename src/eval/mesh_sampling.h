@@ -19,6 +19,22 @@ std::vector<Eigen::Vector3i> TriangulatePolygons(
     const std::vector<std::vector<uint32_t>>& polygons, size_t num_vertices,
     const std::string& path_for_errors = "");
 
+// A mesh (or a point cloud: no faces) as the evaluators use it.
+struct EvaluationMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  // Whether the file had a face element with polygons (of any size).
+  bool has_faces = false;
+};
+
+// Reads `path`'s positions and fan-triangulated polygons; the file's own
+// columns and polygon lists (about 56 bytes per face) are released before
+// returning, so that a large mesh is held once. Throws colmap_lidar::Error
+// naming `what` and the path when the file is missing or unreadable, has no
+// vertex or a non-finite one, or a polygon indexes past the vertices.
+EvaluationMesh ReadEvaluationMesh(const std::string& path,
+                                  const std::string& what);
+
 double TriangleMeshArea(const std::vector<Eigen::Vector3d>& vertices,
                         const std::vector<Eigen::Vector3i>& triangles);
 

@@ -1,8 +1,14 @@
 #include "src/eval/mesh_sampling.h"
 
+#include <cmath>
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "colmap_ext/util/file.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/ply.h"
+#include "colmap_ext/util/testing.h"
 
 namespace colmap_lidar {
 namespace {
@@ -103,6 +109,87 @@ TEST(MeshSampling, SharedTrianglesGetTheSamePoints) {
   EXPECT_NEAR(static_cast<double>(count), 600.0, 75.0);  // 3.5 sigma
   // Far below one sample per mesh: still one.
   EXPECT_EQ(SampleTriangleMesh(vertices, {{0, 1, 2}}, 1e-6, 1).size(), 1u);
+}
+
+// Many small triangles, each rounding its share of samples at random: the
+// samples fit the array reserved up front (a reallocation would double it).
+TEST(MeshSampling, SamplesFitTheirReservation) {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  for (int i = 0; i < 200; ++i) {
+    for (int j = 0; j < 200; ++j) {
+      const int base = static_cast<int>(vertices.size());
+      vertices.emplace_back(0.1 * i, 0.1 * j, 0.0);
+      vertices.emplace_back(0.1 * i + 0.1, 0.1 * j, 0.0);
+      vertices.emplace_back(0.1 * i, 0.1 * j + 0.1, 0.0);
+      triangles.emplace_back(base, base + 1, base + 2);
+    }
+  }
+  // 0.005 m2 per triangle at 1100 per m2: 5.5 samples each.
+  for (uint64_t seed = 0; seed < 4; ++seed) {
+    const std::vector<Eigen::Vector3d> samples =
+        SampleTriangleMesh(vertices, triangles, 1100.0, seed);
+    EXPECT_NEAR(static_cast<double>(samples.size()), 220000.0, 2000.0);
+    EXPECT_LT(static_cast<double>(samples.capacity()),
+              1.01 * static_cast<double>(samples.size()));
+  }
+}
+
+// The message of the colmap_lidar::Error that `function` throws; "" when
+// it throws none.
+template <typename Function>
+std::string ErrorOf(const Function& function) {
+  try {
+    function();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(MeshSampling, ReadsMeshesAndNamesBadFiles) {
+  const std::string dir = testing::CreateTestDir();
+  PlyData quad;
+  quad.AddColumn("x", PlyScalarType::kFloat32, {0, 1, 1, 0});
+  quad.AddColumn("y", PlyScalarType::kFloat32, {0, 0, 1, 1});
+  quad.AddColumn("z", PlyScalarType::kFloat32, {0, 0, 0, 0});
+  quad.faces = {{0, 1, 2, 3}};
+  const std::string mesh_path = JoinPaths(dir, "quad.ply");
+  WritePly(mesh_path, quad);
+  const EvaluationMesh mesh = ReadEvaluationMesh(mesh_path, "Estimate");
+  EXPECT_EQ(mesh.vertices.size(), 4u);
+  EXPECT_EQ(mesh.triangles.size(), 2u);
+  EXPECT_TRUE(mesh.has_faces);
+  EXPECT_EQ(mesh.vertices[2], Eigen::Vector3d(1, 1, 0));
+
+  quad.faces.clear();
+  const std::string cloud_path = JoinPaths(dir, "cloud.ply");
+  WritePly(cloud_path, quad);
+  const EvaluationMesh cloud = ReadEvaluationMesh(cloud_path, "Estimate");
+  EXPECT_FALSE(cloud.has_faces);
+  EXPECT_TRUE(cloud.triangles.empty());
+
+  quad.FindColumn("z")->values[3] = std::nan("");
+  const std::string nan_path = JoinPaths(dir, "nan.ply");
+  WritePly(nan_path, quad);
+  const std::string nan_error =
+      ErrorOf([&] { ReadEvaluationMesh(nan_path, "Estimate"); });
+  for (const std::string& part : {nan_path, std::string("vertex 3"),
+                                  std::string("non-finite")}) {
+    EXPECT_THAT(nan_error, ::testing::HasSubstr(part));
+  }
+  PlyData empty;
+  empty.AddColumn("x", PlyScalarType::kFloat32, {});
+  const std::string empty_path = JoinPaths(dir, "empty.ply");
+  WritePly(empty_path, empty);
+  const std::string empty_error =
+      ErrorOf([&] { ReadEvaluationMesh(empty_path, "Reference"); });
+  EXPECT_THAT(empty_error, ::testing::HasSubstr("Reference " + empty_path +
+                                                " has no vertices"));
+  EXPECT_THAT(ErrorOf([&] {
+                ReadEvaluationMesh(JoinPaths(dir, "missing.ply"), "Estimate");
+              }),
+              ::testing::HasSubstr("missing.ply"));
 }
 
 }  // namespace

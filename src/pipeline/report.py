@@ -284,10 +284,10 @@ class Report:
         if not (os.path.isfile(precision) and os.path.isfile(recall)):
             return ''
         fig, axes = plt.subplots(1, 2, figsize=(14, 5.5))
-        bounds = splat_view(axes[1], read_ply_vertices(recall),
+        bounds = splat_view(axes[1], recall,
                             'reference coloured by distance to the mesh '
                             '(recall)')
-        splat_view(axes[0], read_ply_vertices(precision),
+        splat_view(axes[0], precision,
                    'mesh samples coloured by distance to the reference '
                    '(precision)', bounds)
         fig.suptitle(f'{label}: blue 0 m, red {color_threshold:g} m or more, '
@@ -395,9 +395,16 @@ PLY_TYPES = {'char': 'i1', 'int8': 'i1', 'uchar': 'u1', 'uint8': 'u1',
              'float64': 'f8'}
 
 
-def read_ply_vertices(path):
-    """The vertex element of a binary little-endian PLY as a structured
-    array (the coloured PLYs of mesh_evaluator have vertices only)."""
+# Vertices per chunk: the coloured PLYs of a long recording hold tens of
+# millions of samples (35 bytes each); no step holds more than a chunk of
+# them, so that the report's memory does not grow with the recording.
+CHUNK_VERTICES = 1 << 18
+
+
+def iter_ply_vertices(path, chunk=CHUNK_VERTICES):
+    """The vertex element of a binary little-endian PLY, as structured
+    arrays of at most `chunk` vertices (the coloured PLYs of mesh_evaluator
+    have vertices only)."""
     with open(path, 'rb') as stream:
         if stream.readline().strip() != b'ply':
             raise ValueError(f'{path}: not a PLY file')
@@ -405,7 +412,10 @@ def read_ply_vertices(path):
         count = 0
         in_vertex = False
         while True:
-            words = stream.readline().decode('ascii').split()
+            line = stream.readline()
+            if not line:
+                raise ValueError(f'{path}: no end_header')
+            words = line.decode('ascii').split()
             if not words:
                 continue
             if words[0] == 'format' and words[1] != 'binary_little_endian':
@@ -420,37 +430,93 @@ def read_ply_vertices(path):
                 fields.append((words[2], '<' + PLY_TYPES[words[1]]))
             elif words[0] == 'end_header':
                 break
-        return np.frombuffer(stream.read(np.dtype(fields).itemsize * count),
-                             dtype=fields, count=count)
+        dtype = np.dtype(fields)
+        done = 0
+        while done < count:
+            n = min(chunk, count - done)
+            data = stream.read(dtype.itemsize * n)
+            if len(data) != dtype.itemsize * n:
+                raise ValueError(f'{path}: truncated after {done} vertices')
+            yield np.frombuffer(data, dtype=dtype, count=n)
+            done += n
 
 
-def splat_view(ax, vertices, title, bounds=None, azimuth_deg=225.0,
-               elevation_deg=50.0, width=900):
-    """Orthographic view from above at an angle, z-buffered 2x2 splats."""
-    xyz = np.stack([vertices['x'], vertices['y'], vertices['z']], 1)
-    rgb = np.stack([vertices['red'], vertices['green'], vertices['blue']], 1)
+def vertex_chunks(source, chunk):
+    """`source`'s vertices in chunks: a PLY path (read as it goes) or a
+    structured array with x, y, z, red, green, blue (sliced)."""
+    if isinstance(source, (str, os.PathLike)):
+        yield from iter_ply_vertices(source, chunk)
+    else:
+        for start in range(0, len(source), chunk):
+            yield source[start:start + chunk]
+
+
+def splat_view(ax, source, title, bounds=None, azimuth_deg=225.0,
+               elevation_deg=50.0, width=900, chunk=CHUNK_VERTICES):
+    """Orthographic view from above at an angle of coloured vertices (a
+    PLY path or a structured array, vertex_chunks), 2x2 splats: for each of
+    the four splat offsets in turn, each pixel takes the colour of the
+    nearest vertex landing there, and a later offset overwrites an earlier
+    one. Read in chunks of vertices; the bounds (when not given) are the
+    0.5 and 99.5 percentiles of the view's coordinates, which need them all
+    (16 bytes per vertex)."""
     az, el = math.radians(azimuth_deg), math.radians(elevation_deg)
     forward = np.array([math.cos(el) * math.cos(az),
                         math.cos(el) * math.sin(az), math.sin(el)])
     right = np.array([-math.sin(az), math.cos(az), 0.0])
     up = np.cross(forward, right)
-    u, v, depth = xyz @ right, xyz @ up, xyz @ forward
+
+    def xyz_of(vertices):
+        return np.stack([vertices['x'], vertices['y'], vertices['z']], 1)
+
     if bounds is None:
+        us, vs = [], []
+        for vertices in vertex_chunks(source, chunk):
+            xyz = xyz_of(vertices)
+            us.append(xyz @ right)
+            vs.append(xyz @ up)
+        u = np.concatenate(us) if us else np.zeros(1)
+        v = np.concatenate(vs) if vs else np.zeros(1)
+        del us, vs
         bounds = (np.percentile(u, 0.5), np.percentile(u, 99.5),
                   np.percentile(v, 0.5), np.percentile(v, 99.5))
+        del u, v
     u0, u1, v0, v1 = bounds
     scale = (width - 1) / max(u1 - u0, 1e-9)
     height = int((v1 - v0) * scale) + 1
-    col = np.round((u - u0) * scale).astype(np.int64)
-    row = np.round((v1 - v) * scale).astype(np.int64)
-    image = np.full((height, width, 3), 255, dtype=np.uint8)
-    order = np.argsort(depth)  # Far first, so that nearer points overwrite.
-    for dr in (0, 1):
-        for dc in (0, 1):
-            r, c = row[order] + dr, col[order] + dc
-            ok = (r >= 0) & (r < height) & (c >= 0) & (c < width)
-            image[r[ok], c[ok]] = rgb[order[ok]]
-    ax.imshow(image)
+    offsets = ((0, 0), (0, 1), (1, 0), (1, 1))
+    # Per offset: the nearest vertex's depth and colour per pixel (a larger
+    # depth along `forward` is nearer the viewer).
+    nearest = np.full((len(offsets), height * width), -np.inf)
+    colors = np.zeros((len(offsets), height * width, 3), dtype=np.uint8)
+    for vertices in vertex_chunks(source, chunk):
+        xyz = xyz_of(vertices)
+        rgb = np.stack([vertices['red'], vertices['green'],
+                        vertices['blue']], 1)
+        # Far first, so that in each assignment below the nearest vertex
+        # landing on a pixel is written last and stays.
+        depth = xyz @ forward
+        order = np.argsort(depth)
+        xyz, rgb, depth = xyz[order], rgb[order], depth[order]
+        col = np.round((xyz @ right - u0) * scale).astype(np.int64)
+        row = np.round((v1 - xyz @ up) * scale).astype(np.int64)
+        for k, (dr, dc) in enumerate(offsets):
+            r, c = row + dr, col + dc
+            ok = np.flatnonzero((r >= 0) & (r < height) & (c >= 0) &
+                                (c < width))
+            pixel = r[ok] * width + c[ok]
+            chunk_nearest = np.full(height * width, -np.inf)
+            chunk_nearest[pixel] = depth[ok]
+            chunk_vertex = np.zeros(height * width, dtype=np.int64)
+            chunk_vertex[pixel] = ok
+            nearer = chunk_nearest > nearest[k]
+            nearest[k, nearer] = chunk_nearest[nearer]
+            colors[k, nearer] = rgb[chunk_vertex[nearer]]
+    image = np.full((height * width, 3), 255, dtype=np.uint8)
+    for k in range(len(offsets)):
+        hit = nearest[k] > -np.inf
+        image[hit] = colors[k, hit]
+    ax.imshow(image.reshape(height, width, 3))
     ax.set_title(title, fontsize=9)
     ax.axis('off')
     return bounds
