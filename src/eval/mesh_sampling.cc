@@ -78,7 +78,7 @@ EvaluationMesh ReadEvaluationMesh(const std::string& path,
   {
     const PlyData data = ReadPly(path);
     THROW_CHECK(data.NumVertices() > 0,
-                what << " " << path << " has no vertices (and hence no faces)");
+                what << " " << path << " has no vertices");
     mesh.vertices = data.Positions(path);
     mesh.triangles =
         TriangulatePolygons(data.faces, mesh.vertices.size(), path);
