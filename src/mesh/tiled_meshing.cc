@@ -335,9 +335,8 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
     is_meshable[tile] =
         num_core_points[tile] > 0 && tile_points[tile].size() >= 4;
   }
-  const auto meshable = [&](int tile) { return is_meshable[tile]; };
   size_t reference = 0;
-  while (reference < order.size() && !meshable(order[reference])) {
+  while (reference < order.size() && !is_meshable[order[reference]]) {
     ++reference;
   }
   THROW_CHECK(reference < order.size(), "No tile has points to mesh");
@@ -347,7 +346,7 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
   tile_options.world_grid_order = true;
   const auto mesh_tile = [&](size_t index) {
     const int tile = order[index];
-    if (!meshable(tile)) {
+    if (!is_meshable[tile]) {
       LOG(INFO) << "Tile " << index + 1 << " / " << tiles.NumTiles()
                 << ": no point in its core";
       return MeshedTile();
@@ -392,7 +391,7 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
   std::vector<int> owner(order.size(), 0);
   std::vector<size_t> load(group.Size(), 0);
   for (size_t index = reference + 1; index < order.size(); ++index) {
-    if (!meshable(order[index])) continue;
+    if (!is_meshable[order[index]]) continue;
     owner[index] = static_cast<int>(
         std::min_element(load.begin(), load.end()) - load.begin());
     load[owner[index]] += tile_points[order[index]].size();
@@ -416,7 +415,7 @@ TriangleMesh TiledDelaunayMeshing(const DelaunayMeshingOptions& options,
   group.CheckAllOk(error, "meshing the tiles");
   if (group.Distributed()) {
     for (size_t index = reference + 1; index < order.size(); ++index) {
-      if (!meshable(order[index])) continue;
+      if (!is_meshable[order[index]]) continue;
       std::string bytes;
       if (owner[index] == group.Rank()) {
         bytes = SerializeMeshedTile(own_tiles.at(index));
