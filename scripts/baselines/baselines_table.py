@@ -1,20 +1,26 @@
 #!/usr/bin/env python3
 """Markdown tables of scripts/baselines/bench_baselines.sh: per cell, the
-OpenMVG variants and colmap-lidar's runs (poses), and OpenMVG + OpenMVS,
-colmap-lidar and LIDAR-only Poisson (meshes), each figure the median and the
-worst over the runs, "median (worst)".
+OpenMVG variants, stock COLMAP's mapper and colmap-lidar's runs (poses), and
+OpenMVG + OpenMVS, colmap-lidar and LIDAR-only Poisson (meshes), each figure
+the median and the worst over the runs, "median (worst)".
 
 Poses: images registered; camera position / rotation error after the sim3 of
-centres and axes to the ground truth (pose_evaluator); and the paper's Table
-I protocol, computed here from the models: the baselines sim3-aligned to the
+centres and axes to the ground truth and the relative pose error per step
+between consecutive frames (pose_evaluator); and the paper's Table I
+protocol, computed here from the models: the baselines sim3-aligned to the
 noisy prior centres (Umeyama), colmap-lidar unaligned, then the mean position
 error against the ground truth.
 Meshes: F-score at 0.05, 0.1 and 0.5 m and precision at 0.5 m, after the
-alignment by the model's cameras and after ICP (mesh_evaluator).
+alignment by the model's cameras and after ICP (mesh_evaluator), with recall
+on the LIDAR-covered reference and on the whole reference the true cameras
+see (the paper's protocol).
 
 Usage: baselines_table.py --work DIR --cells a,b [--summary]
-  --summary  one row per cell: the OpenMVG variant that registered the most
-             images beside colmap-lidar, and the meshes' F after ICP
+  --summary  two tables with one row per cell: poses (per figure the best
+             OpenMVG variant among those registering at least half the
+             frames, stock COLMAP's mapper, colmap-lidar; bold where
+             colmap-lidar's worst run beats both baselines' medians) and the
+             meshes' F after ICP on both regions of recall
 """
 import argparse
 import glob
@@ -117,76 +123,116 @@ def median_worst(values, worst=max, digits=2):
     return f"{np.median(values):.{digits}f} ({worst(values):.{digits}f})"
 
 
+BASELINES = [(f"OpenMVG {v.replace('_', ' + ')}", f"run*/openmvg_{v}")
+             for v in ("global", "global_priors", "incremental", "incremental_priors")]
+BASELINES.append(("stock COLMAP mapper", "run*/colmap_mapper"))
+
+
+def pose_figures(cell_dir, dataset, pattern, baseline):
+    """Per run of one method: images registered, the paper's Table I error
+    (m), position (cm) and rotation (deg) after the sim3 to the truth, and
+    the relative pose error per step (mm, deg); None where a run failed."""
+    runs = sorted(glob.glob(os.path.join(cell_dir, "baselines", pattern)))
+    figures = {k: [] for k in ("registered", "paper", "position", "rotation",
+                               "step_mm", "step_deg")}
+    for run in runs:
+        result = load(os.path.join(run, "poses.json"))
+        if result is None:
+            figures["registered"].append(0)
+            continue
+        figures["registered"].append(result["num_matched"])
+        figures["position"].append(100 * result["position_error_m"]["mean"])
+        figures["rotation"].append(result["rotation_error_deg"]["mean"])
+        steps = result.get("step_translation_error_m")
+        figures["step_mm"].append(1000 * steps["mean"] if steps else None)
+        steps = result.get("step_rotation_error_deg")
+        figures["step_deg"].append(steps["mean"] if steps else None)
+        model = (os.path.join(run, "colmap") if baseline else
+                 os.path.join(cell_dir, os.path.basename(run).replace("ours_", ""),
+                              "ws", "sparse", "refined"))
+        figures["paper"].append(paper_position_error(model, dataset, baseline))
+    return len(runs), figures
+
+
 def pose_rows(cell_dir, dataset):
-    rows = []
-    methods = [(f"OpenMVG {v.replace('_', ' + ')}", f"openmvg_{v}", True)
-               for v in ("global", "global_priors", "incremental", "incremental_priors")]
-    for label, name, baseline in methods:
-        runs = sorted(glob.glob(os.path.join(cell_dir, "baselines", "run*", name)))
-        rows.append((label, runs, baseline))
-    ours = sorted(glob.glob(os.path.join(cell_dir, "baselines", "ours_run*")))
-    rows.append(("colmap-lidar (default)", ours, False))
+    rows = [(label, pattern, True) for label, pattern in BASELINES]
+    rows.append(("colmap-lidar (default)", "ours_run*", False))
+    total = len(read_pose_file(os.path.join(dataset, "poses_gt.txt")))
     out = []
-    for label, runs, baseline in rows:
-        registered, position, rotation, paper = [], [], [], []
-        for run in runs:
-            result = load(os.path.join(run, "poses.json"))
-            if result is None:
-                registered.append(0)
-                continue
-            registered.append(result["num_matched"])
-            position.append(100 * result["position_error_m"]["mean"])
-            rotation.append(result["rotation_error_deg"]["mean"])
-            model = (os.path.join(run, "colmap") if baseline else
-                     os.path.join(cell_dir, os.path.basename(run).replace("ours_", ""),
-                                  "ws", "sparse", "refined"))
-            paper.append(paper_position_error(model, dataset, baseline))
-        total = len(read_pose_file(os.path.join(dataset, "poses_gt.txt")))
-        out.append(f"| {label} | {len(runs)} | {median_worst(registered, min, 0)} / {total} | "
-                   f"{median_worst(paper, max, 3)} | {median_worst(position)} | "
-                   f"{median_worst(rotation, max, 3)} |")
+    for label, pattern, baseline in rows:
+        runs, f = pose_figures(cell_dir, dataset, pattern, baseline)
+        out.append(f"| {label} | {runs} | {median_worst(f['registered'], min, 0)} / {total} | "
+                   f"{median_worst(f['paper'], max, 3)} | {median_worst(f['position'])} | "
+                   f"{median_worst(f['rotation'], max, 3)} | {median_worst(f['step_mm'], max, 1)} | "
+                   f"{median_worst(f['step_deg'], max, 3)} |")
     return out
+
+
+MESHES = [("OpenMVG + OpenMVS (refined)", "run*/openmvs/scene_refined"),
+          ("colmap-lidar (default)", "ours_run*/mesh"),
+          ("LIDAR-only Poisson", "ours_run*/lidar_poisson")]
+# The two regions of recall: the LIDAR-covered reference and the whole
+# reference the true cameras see (the paper's), files *_eval / *_visible.
+REGIONS = (("_eval", "LIDAR-covered reference"), ("_visible", "whole visible reference"))
+
+
+def mesh_values(cell_dir, prefix, region, threshold, key="fscore", icp=True):
+    values = []
+    for path in sorted(glob.glob(os.path.join(cell_dir, "baselines", prefix + region + ".json"))):
+        result = load(path.replace(".json", "_icp.json") if icp else path)
+        if result is not None:
+            values.append(dict(zip(result["thresholds_m"], result[key])).get(threshold))
+    return values
 
 
 def mesh_rows(cell_dir):
-    rows = [("OpenMVG + OpenMVS (mesh)", "run*/openmvs/scene_mesh_eval"),
-            ("OpenMVG + OpenMVS (refined)", "run*/openmvs/scene_refined_eval"),
-            ("colmap-lidar (default)", "ours_run*/mesh_eval"),
-            ("LIDAR-only Poisson", "ours_run*/lidar_poisson_eval")]
     out = []
-    for label, pattern in rows:
-        paths = sorted(glob.glob(os.path.join(cell_dir, "baselines", pattern + ".json")))
+    for label, prefix in MESHES:
+        runs = len(glob.glob(os.path.join(cell_dir, "baselines", prefix + "_eval.json")))
         cells = []
-        for suffix in ("", "_icp"):
-            f = {0.05: [], 0.1: [], 0.5: []}
-            precision = []
-            for path in paths:
-                result = load(path.replace(".json", suffix + ".json"))
-                if result is None:
-                    continue
-                scores = dict(zip(result["thresholds_m"], result["fscore"]))
-                for t in f:
-                    f[t].append(scores.get(t))
-                precision.append(dict(zip(result["thresholds_m"], result["precision"])).get(0.5))
-            cells += [median_worst(f[t], min, 3) for t in (0.05, 0.1, 0.5)]
-            cells.append(median_worst(precision, min, 3))
+        for region, _ in REGIONS:
+            for icp in (False, True):
+                cells += [median_worst(mesh_values(cell_dir, prefix, region, t, icp=icp), min, 3)
+                          for t in (0.05, 0.1, 0.5)]
+                cells.append(median_worst(mesh_values(cell_dir, prefix, region, 0.5, "precision",
+                                                      icp), min, 3))
         if "OpenMVS" in label:
             # The OpenMVG variant each run's OpenMVS worked on.
             used = []
-            for path in paths:
-                variant = os.path.join(os.path.dirname(path), "openmvg_variant.txt")
-                if os.path.exists(variant):
-                    used.append(os.path.basename(open(variant).read().strip())
-                                .replace("openmvg_", "").replace("_", " + "))
+            for path in sorted(glob.glob(os.path.join(cell_dir, "baselines", "run*", "openmvs",
+                                                      "openmvg_variant.txt"))):
+                used.append(os.path.basename(open(path).read().strip())
+                            .replace("openmvg_", "").replace("_", " + "))
             if used:
                 label += " on OpenMVG " + ", ".join(used)
-        out.append(f"| {label} | {len(paths)} | " + " | ".join(cells) + " |")
+        out.append(f"| {label} | {runs} | " + " | ".join(cells) + " |")
     return out
 
 
-def summary_rows(work, cells):
-    """One row per cell: the OpenMVG variant that registered the most images
-    (median over its runs) beside colmap-lidar, and the meshes' F."""
+def best_baseline(cell_dir, dataset, patterns, key, total):
+    """The baseline variant with the lowest median of `key` among those whose
+    median run registered at least half the frames (fewer make the sim3
+    trivially good): (label, figures) or None."""
+    best = None
+    for label, pattern in patterns:
+        _, f = pose_figures(cell_dir, dataset, pattern, True)
+        values = [v for v in f[key] if v is not None]
+        if not values or np.median(f["registered"]) < total / 2:
+            continue
+        if best is None or np.median(values) < np.median(best[1][key]):
+            best = (label, {k: [v for v in vs if v is not None] for k, vs in f.items()})
+    return best
+
+
+POSE_KEYS = [("paper", "Table I, m", max, 3), ("position", "position after sim3, cm", max, 2),
+             ("rotation", "rotation after sim3, deg", max, 3),
+             ("step_mm", "per step, mm", max, 1), ("step_deg", "per step, deg", max, 3)]
+
+
+def summary_pose_rows(work, cells):
+    """Per cell and figure: the best OpenMVG variant, stock COLMAP's mapper
+    and colmap-lidar, each "median (worst)"; a figure where colmap-lidar's
+    worst run beats both baselines' medians is in bold."""
     out = []
     for cell in cells:
         cell_dir = os.path.join(work, cell)
@@ -194,40 +240,48 @@ def summary_rows(work, cells):
         if not os.path.exists(os.path.join(dataset, "poses_gt.txt")):
             continue
         total = len(read_pose_file(os.path.join(dataset, "poses_gt.txt")))
-        best = None
-        for variant in ("global", "global_priors", "incremental", "incremental_priors"):
-            results = [load(os.path.join(r, "poses.json")) for r in sorted(
-                glob.glob(os.path.join(cell_dir, "baselines", "run*", "openmvg_" + variant)))]
-            registered = [r["num_matched"] if r else 0 for r in results]
-            if registered and (best is None or np.median(registered) > np.median(best[1])):
-                best = (variant, registered, [r for r in results if r])
-        ours = [load(p) for p in sorted(glob.glob(
-            os.path.join(cell_dir, "baselines", "ours_run*", "poses.json")))]
-        ours = [r for r in ours if r]
+        _, ours = pose_figures(cell_dir, dataset, "ours_run*", False)
+        _, mapper = pose_figures(cell_dir, dataset, "run*/colmap_mapper", True)
+        row = [cell, f"{median_worst(ours['registered'], min, 0)} / {total}"]
+        registered = []
+        for label, pattern in BASELINES:
+            _, f = pose_figures(cell_dir, dataset, pattern, True)
+            registered.append(f"{median_worst(f['registered'], min, 0)}")
+        row.append(", ".join(registered))
+        for key, _, worst, digits in POSE_KEYS:
+            best = best_baseline(cell_dir, dataset, BASELINES[:4], key, total)
+            mapper_values = ([v for v in mapper[key] if v is not None]
+                             if np.median(mapper["registered"] or [0]) >= total / 2 else [])
+            ours_values = [v for v in ours[key] if v is not None]
+            rivals = []
+            if best:
+                rivals.append(np.median(best[1][key]))
+            if mapper_values:
+                rivals.append(np.median(mapper_values))
+            text = median_worst(ours_values, worst, digits)
+            if ours_values and rivals and max(ours_values) < min(rivals):
+                text = f"**{text}**"
+            mvg = (f"{median_worst(best[1][key], worst, digits)} ({best[0].replace('OpenMVG ', '')})"
+                   if best else "-")
+            row.append(f"{mvg}; {median_worst(mapper_values, worst, digits)}; {text}")
+        out.append("| " + " | ".join(row) + " |")
+    return out
 
-        def f_of(pattern, threshold):
-            values = []
-            for path in sorted(glob.glob(os.path.join(cell_dir, "baselines", pattern))):
-                result = load(path)
-                if result:
-                    values.append(dict(zip(result["thresholds_m"], result["fscore"])).get(threshold))
-            return median_worst(values, min, 3)
 
-        mvg = "-"
-        if best:
-            variant, registered, results = best
-            mvg = (f"{variant.replace('_', ' + ')}: {median_worst(registered, min, 0)} / {total}, "
-                   f"{median_worst([100 * r['position_error_m']['mean'] for r in results])} cm, "
-                   f"{median_worst([r['rotation_error_deg']['mean'] for r in results], max, 3)} deg")
-        mine = (f"{median_worst([r['num_matched'] for r in ours], min, 0)} / {total}, "
-                f"{median_worst([100 * r['position_error_m']['mean'] for r in ours])} cm, "
-                f"{median_worst([r['rotation_error_deg']['mean'] for r in ours], max, 3)} deg")
-        meshes = " | ".join(
-            " / ".join(f_of(pattern, t) for t in (0.05, 0.1, 0.5))
-            for pattern in ("run*/openmvs/scene_refined_eval_icp.json",
-                            "ours_run*/mesh_eval_icp.json",
-                            "ours_run*/lidar_poisson_eval_icp.json"))
-        out.append(f"| {cell} | {mvg} | {mine} | {meshes} |")
+def summary_mesh_rows(work, cells):
+    """Per cell: F at 0.05 / 0.1 / 0.5 m after ICP, on both regions of
+    recall, for OpenMVG + OpenMVS (refined), colmap-lidar and LIDAR-only."""
+    out = []
+    for cell in cells:
+        cell_dir = os.path.join(work, cell)
+        if not os.path.exists(os.path.join(cell_dir, "dataset", "poses_gt.txt")):
+            continue
+        row = [cell]
+        for region, _ in REGIONS:
+            for prefix in ("run*/openmvs/scene_refined", "ours_run*/mesh", "ours_run*/lidar_poisson"):
+                row.append(" / ".join(median_worst(mesh_values(cell_dir, prefix, region, t), min, 3)
+                                      for t in (0.05, 0.1, 0.5)))
+        out.append("| " + " | ".join(row) + " |")
     return out
 
 
@@ -238,28 +292,41 @@ def main():
     parser.add_argument("--summary", action="store_true",
                         help="one row per cell instead of a table per cell")
     args = parser.parse_args()
+    cells = args.cells.split(",")
     if args.summary:
-        print("| cell | OpenMVG, the variant registering the most: images, position / rotation after "
-              "sim3 to the truth | colmap-lidar: images, position / rotation | mesh F @0.05 / 0.1 / 0.5 m "
-              "after ICP: OpenMVG + OpenMVS (refined) | colmap-lidar | LIDAR-only Poisson |")
-        print("|---|---|---|---|---|---|")
-        print("\n".join(summary_rows(args.work, args.cells.split(","))))
+        print("| cell | colmap-lidar images | images registered by OpenMVG global, global + priors, "
+              "incremental, incremental + priors; stock mapper | "
+              + " | ".join(f"{name}: OpenMVG best; stock mapper; colmap-lidar"
+                           for _, name, _, _ in POSE_KEYS) + " |")
+        print("|" + "---|" * (3 + len(POSE_KEYS)))
+        print("\n".join(summary_pose_rows(args.work, cells)))
+        print()
+        print("| cell | " + " | ".join(
+            f"{name}: {method}" for _, name in REGIONS
+            for method in ("OpenMVG + OpenMVS (refined)", "colmap-lidar", "LIDAR-only Poisson"))
+            + " |")
+        print("|" + "---|" * 7)
+        print("\n".join(summary_mesh_rows(args.work, cells)))
         return
-    for cell in args.cells.split(","):
+    for cell in cells:
         cell_dir = os.path.join(args.work, cell)
         dataset = os.path.join(cell_dir, "dataset")
         if not os.path.exists(os.path.join(dataset, "poses_gt.txt")):
             print(f"{cell}: no ground truth", file=sys.stderr)
             continue
         print(f"\n### {cell}\n")
-        print("| method | runs | images registered | Table I: position error, baselines sim3 to the priors, "
-              "ours unaligned, m | position after sim3 to the truth (centres + axes), cm | rotation, deg |")
-        print("|---|---|---|---|---|---|")
+        print("| method | runs | images registered | Table I: position error, baselines sim3 to the "
+              "priors, ours unaligned, m | position after sim3 to the truth (centres + axes), cm | "
+              "rotation, deg | per step: translation, mm | per step: rotation, deg |")
+        print("|---|---|---|---|---|---|---|---|")
         print("\n".join(pose_rows(cell_dir, dataset)))
         print()
-        print("| mesh | runs | F @0.05 | F @0.1 | F @0.5 | precision @0.5 | after ICP: F @0.05 | F @0.1 | "
-              "F @0.5 | precision @0.5 |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+        header = ["mesh", "runs"]
+        for _, name in REGIONS:
+            for icp in ("", " after ICP"):
+                header += [f"{name}{icp}: F @0.05", "F @0.1", "F @0.5", "precision @0.5"]
+        print("| " + " | ".join(header) + " |")
+        print("|" + "---|" * len(header))
         print("\n".join(mesh_rows(cell_dir)))
 
 

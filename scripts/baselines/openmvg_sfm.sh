@@ -12,6 +12,7 @@
 # Usage: bash scripts/baselines/openmvg_sfm.sh --dataset DIR --output DIR
 #          [--engine INCREMENTAL|GLOBAL] [--priors] [--prior_sigma_m S]
 #          [--describer_preset NORMAL|HIGH|ULTRA] [--prefix DIR] [--threads N]
+#          [--features_from DIR]
 #   dataset  a recording (docs/dataset-format.md: images/, calibration.yaml,
 #            poses_prior.txt)
 #   output   written afresh: sfm_data.json, matches/, reconstruction/
@@ -24,6 +25,11 @@
 #            about 2000, as many as stock COLMAP's SIFT
 #   prefix   where scripts/baselines/build.sh installed OpenMVG (default
 #            bench_work/baselines)
+#   features_from  the output of an earlier run on the same recording and
+#            preset: its SIFT features (per image, deterministic) are copied
+#            and ComputeFeatures keeps them, so the runs and variants of a
+#            benchmark differ only where OpenMVG is random (matching,
+#            geometric filter, SfM)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$(pwd)
@@ -35,6 +41,7 @@ PRIOR_SIGMA=0.5
 PREFIX="${ROOT}/bench_work/baselines"
 THREADS=$(nproc)
 PRESET=ULTRA
+FEATURES_FROM=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --dataset) DATASET=$2; shift 2 ;;
@@ -45,7 +52,8 @@ while [[ $# -gt 0 ]]; do
     --prefix) PREFIX=$2; shift 2 ;;
     --threads) THREADS=$2; shift 2 ;;
     --describer_preset) PRESET=$2; shift 2 ;;
-    -h|--help) sed -n 2,28p "$0"; exit 0 ;;
+    --features_from) FEATURES_FROM=$2; shift 2 ;;
+    -h|--help) sed -n 2,34p "$0"; exit 0 ;;
     *) echo "openmvg_sfm.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -58,6 +66,11 @@ log() { echo "[openmvg_sfm $(date +%H:%M:%S)] $*"; }
   fail "--describer_preset must be NORMAL, HIGH or ULTRA, not '${PRESET}'"
 [[ "${ENGINE}" == GLOBAL || "${ENGINE}" == INCREMENTAL ]] ||
   fail "--engine must be GLOBAL or INCREMENTAL, not '${ENGINE}'"
+if [[ -n "${FEATURES_FROM}" ]]; then
+  [[ -f "${FEATURES_FROM}/matches/image_describer.json" ]] ||
+    fail "--features_from ${FEATURES_FROM} has no matches/image_describer.json"
+  FEATURES_FROM=$(cd "${FEATURES_FROM}" && pwd)
+fi
 BIN="${PREFIX}/openmvg/bin"
 [[ -x "${BIN}/openMVG_main_SfM" ]] ||
   fail "no OpenMVG in ${BIN} (bash scripts/baselines/build.sh --prefix ${PREFIX} ...)"
@@ -102,6 +115,12 @@ PRIOR_ARGS=()
 [[ ${PRIORS} -eq 1 ]] && PRIOR_ARGS=(--priors --prior_sigma_m "${PRIOR_SIGMA}")
 step camera python3 "${ROOT}/scripts/baselines/openmvg_sfm_data.py" \
   "${OUTPUT}/sfm_data.json" "${DATASET}" "${PRIOR_ARGS[@]}"
+if [[ -n "${FEATURES_FROM}" ]]; then
+  # ComputeFeatures keeps an image's .feat / .desc when both exist (no -f).
+  log "features of ${FEATURES_FROM}"
+  cp "${FEATURES_FROM}"/matches/image_describer.json "${FEATURES_FROM}"/matches/*.feat \
+    "${FEATURES_FROM}"/matches/*.desc "${OUTPUT}/matches/"
+fi
 step features "${BIN}/openMVG_main_ComputeFeatures" -i "${OUTPUT}/sfm_data.json" \
   -o "${OUTPUT}/matches" -m SIFT -p "${PRESET}" -n "${THREADS}"
 step pairs "${BIN}/openMVG_main_PairGenerator" -i "${OUTPUT}/sfm_data.json" \
