@@ -209,13 +209,13 @@ def mesh_rows(cell_dir):
     return out
 
 
-def best_baseline(cell_dir, dataset, patterns, key, total):
-    """The baseline variant with the lowest median of `key` among those whose
-    median run registered at least half the frames (fewer make the sim3
-    trivially good): (label, figures) or None."""
+def best_baseline(variants, key, total):
+    """Of `variants` [(label, figures of pose_figures)], the one with the
+    lowest median of `key` among those whose median run registered at least
+    half the frames (fewer make the sim3 trivially good): (label, figures
+    without the failed runs) or None."""
     best = None
-    for label, pattern in patterns:
-        _, f = pose_figures(cell_dir, dataset, pattern, True)
+    for label, f in variants:
         values = [v for v in f[key] if v is not None]
         if not values or np.median(f["registered"]) < total / 2:
             continue
@@ -241,15 +241,14 @@ def summary_pose_rows(work, cells):
             continue
         total = len(read_pose_file(os.path.join(dataset, "poses_gt.txt")))
         _, ours = pose_figures(cell_dir, dataset, "ours_run*", False)
-        _, mapper = pose_figures(cell_dir, dataset, "run*/colmap_mapper", True)
-        row = [cell, f"{median_worst(ours['registered'], min, 0)} / {total}"]
-        registered = []
-        for label, pattern in BASELINES:
-            _, f = pose_figures(cell_dir, dataset, pattern, True)
-            registered.append(f"{median_worst(f['registered'], min, 0)}")
-        row.append(", ".join(registered))
+        # Every baseline's runs read once (models and evaluations).
+        baselines = [(label, pose_figures(cell_dir, dataset, pattern, True)[1])
+                     for label, pattern in BASELINES]
+        mapper = baselines[-1][1]
+        row = [cell, f"{median_worst(ours['registered'], min, 0)} / {total}",
+               ", ".join(median_worst(f["registered"], min, 0) for _, f in baselines)]
         for key, _, worst, digits in POSE_KEYS:
-            best = best_baseline(cell_dir, dataset, BASELINES[:4], key, total)
+            best = best_baseline(baselines[:-1], key, total)
             mapper_values = ([v for v in mapper[key] if v is not None]
                              if np.median(mapper["registered"] or [0]) >= total / 2 else [])
             ours_values = [v for v in ours[key] if v is not None]
