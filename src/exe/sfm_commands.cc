@@ -195,6 +195,12 @@ void AddLidarMapperOptions(LidarMapperOptions* o, OptionManager* options) {
                      &o->point_planes.max_range_m,
                      "LIDAR planes of the points: none for points farther "
                      "from the camera, metres, > 0.");
+  options->AddOption(s + "guided_matching", &o->guided_matching.enabled,
+                     "init_method lidar_graph: after the first iteration, "
+                     "match again where the adjusted poses and each image's "
+                     "LIDAR depth put a keypoint's match (a ratio test among "
+                     "the few keypoints there) and triangulate once more "
+                     "with those matches, 0/1. Not in the paper.");
   options->AddOption(s + "init_model_path", &o->init_model_path,
                      "Sparse model for init_method model.");
   options->AddOption(s + "init_min_num_inliers", &o->init_min_num_inliers,

@@ -12,20 +12,12 @@
 #include "colmap_ext/util/testing.h"
 #include "src/dataset/importer.h"
 #include "src/dataset/poses.h"
+#include "src/sfm/sift_test_util.h"
 #include "src/synth/synthesize.h"
 #include "src/synth/test_recordings.h"
 
 namespace colmap_lidar {
 namespace {
-
-// A COLMAP-like SIFT descriptor: non-negative, L2 norm about 512.
-Eigen::Matrix<uint8_t, 1, 128> RandomDescriptor(std::mt19937* rng) {
-  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-  Eigen::Matrix<float, 1, 128> values;
-  for (int k = 0; k < 128; ++k) values(k) = std::pow(uniform(*rng), 3.0f);
-  values *= 512.0f / values.norm();
-  return values.array().round().min(255.0f).cast<uint8_t>();
-}
 
 // Fischler and Bolles' count for the smallest ratio a pair may pass with,
 // never above max_num_trials; no ratio asked: max_num_trials.
@@ -48,7 +40,7 @@ TEST(ExactFeatureMatcher, VerificationTrialsFollowTheRatioAPairNeeds) {
 TEST(ExactFeatureMatcher, MatchesMutualBestUnambiguousDescriptors) {
   std::mt19937 rng(7);
   FeatureDescriptorsBlob descriptors1(40, 128);
-  for (int i = 0; i < 40; ++i) descriptors1.row(i) = RandomDescriptor(&rng);
+  for (int i = 0; i < 40; ++i) descriptors1.row(i) = RandomSiftDescriptor(&rng);
   FeatureDescriptorsBlob descriptors2(50, 128);
   std::uniform_int_distribution<int> noise(-3, 3);
   for (int i = 0; i < 30; ++i) {
@@ -59,7 +51,7 @@ TEST(ExactFeatureMatcher, MatchesMutualBestUnambiguousDescriptors) {
   }
   descriptors2.row(30) = descriptors1.row(30);
   descriptors2.row(31) = descriptors1.row(30);
-  for (int i = 32; i < 50; ++i) descriptors2.row(i) = RandomDescriptor(&rng);
+  for (int i = 32; i < 50; ++i) descriptors2.row(i) = RandomSiftDescriptor(&rng);
 
   const ExactMatchingOptions options;
   const FeatureMatchesBlob matches =
@@ -72,7 +64,7 @@ TEST(ExactFeatureMatcher, MatchesMutualBestUnambiguousDescriptors) {
   // Without the duplicate, descriptor 30 is matched: the ratio test, not
   // the noise, dropped it.
   FeatureDescriptorsBlob unique2 = descriptors2;
-  unique2.row(31) = RandomDescriptor(&rng);
+  unique2.row(31) = RandomSiftDescriptor(&rng);
   const FeatureMatchesBlob with_30 =
       MatchDescriptors(descriptors1, unique2, options);
   ASSERT_EQ(with_30.rows(), 31);

@@ -94,7 +94,16 @@ bool LidarMapperOptions::Check() const {
 #undef LIDAR_MAPPER_CHECK
   return extraction.Check() && matching.Check() && adjustment.Check() &&
          (init_method != "lidar_graph" || lidar_graph.Check()) &&
-         point_planes.Check();
+         point_planes.Check() && guided_matching.Check();
+}
+
+std::vector<std::pair<image_t, image_t>> LidarMapperMatchingPairs(
+    const std::string& database_path, const LidarMapperOptions& options) {
+  const Database database(database_path);
+  return MatchingPairs(database.ReadAllImages(),
+                       options.exhaustive_max_num_images,
+                       options.sequential_overlap,
+                       options.sequential_quadratic_overlap);
 }
 
 std::string LidarMapperSummary::Outcome() const {
@@ -286,14 +295,8 @@ LidarMapperSummary RunLidarMapper(const LidarMapperPaths& input_paths,
                  "extraction skipped";
   }
   if (options.matcher == "exact") {
-    std::vector<std::pair<image_t, image_t>> pairs;
-    {
-      const Database database(paths.database_path);
-      pairs = MatchingPairs(database.ReadAllImages(),
-                            options.exhaustive_max_num_images,
-                            options.sequential_overlap,
-                            options.sequential_quadratic_overlap);
-    }
+    const std::vector<std::pair<image_t, image_t>> pairs =
+        LidarMapperMatchingPairs(paths.database_path, options);
     ExactMatchingOptions matching;
     matching.num_threads = options.num_threads;
     RunExactMatching(paths.database_path, pairs, matching);

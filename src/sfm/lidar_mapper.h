@@ -28,7 +28,12 @@
 //        above a reprojection error), max_num_iterations times (default once)
 //        or until the largest camera displacement of an iteration is below
 //        max_position_change_m and the largest rotation change below
-//        max_rotation_change_deg;
+//        max_rotation_change_deg; with the LIDAR graph's initialisation,
+//        after the first round each image is matched again with its
+//        nearest images where the adjusted poses and its LIDAR depth put a
+//        keypoint's match (src/sfm/pose_guided_matching.h, guided_matching:
+//        the corridors 1.74 -> 0.68 cm and 1.38 -> 1.29 cm after sim3), and
+//        one more round triangulates with those matches;
 //   6. output     <output_path> (default sparse/refined): a COLMAP model
 //                 readable by stock colmap, plus lines3D.bin, and a PLY of
 //                 the final 3D segments.
@@ -95,6 +100,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "src/lines/line_extractor.h"
@@ -102,6 +108,7 @@
 #include "src/optim/line_bundle_adjustment.h"
 #include "src/sfm/lidar_point_planes.h"
 #include "src/sfm/lidar_pose_graph.h"
+#include "src/sfm/pose_guided_matching.h"
 
 namespace colmap_lidar {
 
@@ -167,7 +174,8 @@ struct LidarMapperOptions {
   // One: more rounds (association again on the adjusted poses) did not pay
   // on the worst cell of the benchmark matrix (corridor VLP-16: 2.14 cm /
   // 0.051 deg after sim3 with 5 rounds, 2.04 cm / 0.038 deg with one; every
-  // other cell within 0.01 cm, docs/benchmarks/ablation.md).
+  // other cell within 0.01 cm, docs/benchmarks/ablation.md). Pose-guided
+  // matching (guided_matching below) adds one round when it adds matches.
   int max_num_iterations = 1;
   // Convergence: largest camera centre change (metres) and rotation change
   // (degrees) of an iteration.
@@ -210,6 +218,10 @@ struct LidarMapperOptions {
   // every adjustment with points when adjustment.lidar_point_weight > 0;
   // lidar_mapper sets the threads.
   LidarPointPlaneOptions point_planes;
+  // Pose-guided matching after the first iteration (init_method
+  // lidar_graph; src/sfm/pose_guided_matching.h); lidar_mapper sets its
+  // pose sigmas (refined_pose_sigma_*) and threads.
+  PoseGuidedMatchingOptions guided_matching;
 
   bool Check() const;
 };
@@ -282,6 +294,11 @@ struct LidarMapperSummary {
   // error more than doubled and up by more than sqrt(6), the expected norm
   // of a correct edge).
   int num_lidar_edges = 0;
+  // Pose-guided matching's outcome (PoseGuidedMatchingSummary::ToString;
+  // empty when it did not run) and the triangulation database it wrote
+  // (empty when it added no match).
+  std::string guided_matching;
+  std::string guided_database_path;
   double lidar_edge_error_input = -1.0;
   double lidar_edge_error_final = -1.0;
   int num_lidar_edge_violated_frames = 0;
@@ -309,6 +326,12 @@ struct LidarMapperPaths {
   std::string output_path;
   std::string lines_ply_path;
 };
+
+// The image pairs lidar_mapper matches (exhaustive_max_num_images,
+// sequential_overlap, sequential_quadratic_overlap; MatchingPairs of
+// src/sfm/exact_feature_matcher.h) among the images of the database.
+std::vector<std::pair<image_t, image_t>> LidarMapperMatchingPairs(
+    const std::string& database_path, const LidarMapperOptions& options);
 
 // Runs the pipeline of the file comment. Intermediate models go to
 // <workspace>/sparse/lidar_mapper/, stock colmap's output to

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <sstream>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "src/optim/line_track.h"
 #include "src/sfm/association_step.h"
 #include "src/sfm/ba_input.h"
+#include "src/sfm/pose_guided_matching.h"
 #include "src/sfm/pose_prior_checks.h"
 #include "src/sfm/stock_colmap_steps.h"
 
@@ -76,6 +78,46 @@ void RebuildStructureAtPoses(const ColmapRunner& colmap,
             << " line tracks";
 }
 
+namespace {
+
+// Pose-guided matching at the model's poses; true when it added matches
+// (summary->guided_database_path then names the triangulation database).
+bool GuidedMatchingAtPoses(const LidarMapperPaths& paths,
+                           const LidarMapperOptions& options,
+                           const std::string& work_path,
+                           const std::vector<RelativePoseEdge>& lidar_edges,
+                           const std::unordered_map<image_t, bool>& held_out,
+                           const Reconstruction& model,
+                           LidarMapperSummary* summary) {
+  // Trusted: images a LIDAR edge holds (an image without one sits at its
+  // prior) and that take part in the triangulation.
+  std::unordered_set<image_t> trusted;
+  for (const RelativePoseEdge& edge : lidar_edges) {
+    for (const image_t id : {edge.image_id1, edge.image_id2}) {
+      if (held_out.count(id) == 0) trusted.insert(id);
+    }
+  }
+  const std::vector<std::pair<image_t, image_t>> pairs =
+      LidarMapperMatchingPairs(paths.database_path, options);
+  PoseGuidedMatchingOptions guided = options.guided_matching;
+  guided.pose_sigma_m = options.refined_pose_sigma_t_m;
+  guided.pose_sigma_deg = options.refined_pose_sigma_r_deg;
+  guided.num_threads = options.num_threads;
+  const std::string database_dir =
+      std::filesystem::path(paths.database_path).parent_path().string();
+  const std::string output = JoinPaths(work_path, "guided_matches.db");
+  const PoseGuidedMatchingSummary result = RunPoseGuidedMatching(
+      paths.database_path, database_dir.empty() ? "." : database_dir, model,
+      trusted, pairs, guided, output);
+  LOG(INFO) << "lidar_mapper: pose-guided matching: " << result.ToString();
+  summary->guided_matching = result.ToString();
+  if (result.num_added == 0) return false;
+  summary->guided_database_path = output;
+  return true;
+}
+
+}  // namespace
+
 void RunMapperIterations(const ColmapRunner& colmap,
                          const LidarMapperPaths& paths,
                          const LidarMapperOptions& options,
@@ -104,8 +146,11 @@ void RunMapperIterations(const ColmapRunner& colmap,
   }
   // An initialisation by the priors adjusts points only first: the rounds
   // with lines come after it.
-  const int num_iterations =
-      options.max_num_iterations + (points_only_first ? 1 : 0);
+  int num_iterations = options.max_num_iterations + (points_only_first ? 1 : 0);
+  // The triangulation reads the workspace's matches until pose-guided
+  // matching has written its own database (src/sfm/pose_guided_matching.h).
+  LidarMapperPaths triangulation_paths = paths;
+  bool guided_matching_done = false;
   for (int iteration = 0; iteration < num_iterations; ++iteration) {
     const auto iteration_start = std::chrono::steady_clock::now();
     LidarMapperIteration record;
@@ -113,8 +158,8 @@ void RunMapperIterations(const ColmapRunner& colmap,
     const Reconstruction model_before = model;
 
     // Points: stock point_triangulator, poses and intrinsics fixed.
-    const Reconstruction active =
-        TriangulateAtPoses(colmap, paths, options, work_path, held_out, &model);
+    const Reconstruction active = TriangulateAtPoses(
+        colmap, triangulation_paths, options, work_path, held_out, &model);
     const std::string triangulated_path = JoinPaths(work_path, "triangulated");
     model.lines3D.clear();
     record.num_points = static_cast<int>(model.points3D.size());
@@ -274,6 +319,18 @@ void RunMapperIterations(const ColmapRunner& colmap,
               << record.mean_position_change_m << " m; "
               << record.adjustment.ToString();
     summary->iterations.push_back(record);
+    // Pose-guided matching once the poses were adjusted with the LIDAR
+    // edges; the next iteration triangulates with its matches.
+    if (options.guided_matching.enabled && !guided_matching_done &&
+        !lidar_edges.empty() && use_lines) {
+      guided_matching_done = true;
+      if (GuidedMatchingAtPoses(paths, options, work_path, lidar_edges,
+                                held_out, model, summary)) {
+        triangulation_paths.database_path = summary->guided_database_path;
+        num_iterations = std::max(num_iterations, iteration + 2);
+        continue;
+      }
+    }
     if (use_lines && iteration > 0 && far_images.empty() &&
         record.num_registered_images == 0 &&
         record.max_position_change_m < options.max_position_change_m &&
