@@ -38,31 +38,40 @@ double DescriptorDistance(const FeatureDescriptorsBlob& d1, int row1,
 // Points (x, y) in a uniform grid of square cells over their bounding box.
 class PointGrid {
  public:
+  // Non-finite points are left out. The cell grows when the box would
+  // need more than kMaxCells cells (a very wide camera).
   PointGrid(const std::vector<Eigen::Vector2d>& points, double cell)
       : points_(points), cell_(cell) {
-    if (points.empty()) return;
-    min_ = max_ = points[0];
+    bool any = false;
     for (const Eigen::Vector2d& p : points) {
-      min_ = min_.cwiseMin(p);
-      max_ = max_.cwiseMax(p);
+      if (!p.allFinite()) continue;
+      min_ = any ? min_.cwiseMin(p) : p;
+      max_ = any ? max_.cwiseMax(p) : p;
+      any = true;
     }
-    nx_ = static_cast<int>((max_.x() - min_.x()) / cell_) + 1;
-    ny_ = static_cast<int>((max_.y() - min_.y()) / cell_) + 1;
+    if (!any) return;
+    constexpr double kMaxCells = 1 << 22;
+    const Eigen::Vector2d extent = max_ - min_;
+    cell_ = std::max(cell_, std::sqrt(extent.x() * extent.y() / kMaxCells));
+    cell_ = std::max(cell_, std::max(extent.x(), extent.y()) / kMaxCells);
+    nx_ = static_cast<int>(extent.x() / cell_) + 1;
+    ny_ = static_cast<int>(extent.y() / cell_) + 1;
     starts_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
-    std::vector<int> cells(points.size());
+    std::vector<int> cells(points.size(), -1);
     for (size_t i = 0; i < points.size(); ++i) {
+      if (!points[i].allFinite()) continue;
       cells[i] = CellIndex(CellX(points[i].x()), CellY(points[i].y()));
       ++starts_[cells[i] + 1];
     }
     for (size_t c = 1; c < starts_.size(); ++c) starts_[c] += starts_[c - 1];
-    order_.resize(points.size());
+    order_.resize(starts_.back());
     std::vector<int> fill(starts_.begin(), starts_.end() - 1);
     for (size_t i = 0; i < points.size(); ++i) {
-      order_[fill[cells[i]]++] = static_cast<int>(i);
+      if (cells[i] >= 0) order_[fill[cells[i]]++] = static_cast<int>(i);
     }
   }
 
-  bool empty() const { return points_.empty(); }
+  bool empty() const { return nx_ == 0; }
   const Eigen::Vector2d& min() const { return min_; }
   const Eigen::Vector2d& max() const { return max_; }
   double cell() const { return cell_; }
@@ -71,6 +80,7 @@ class PointGrid {
   // of the cell holding p (each cell once per call).
   template <typename Visit>
   void VisitAround(const Eigen::Vector2d& p, int radius, Visit visit) const {
+    if (empty() || !p.allFinite()) return;
     const int cx = CellX(p.x());
     const int cy = CellY(p.y());
     for (int y = std::max(0, cy - radius); y <= std::min(ny_ - 1, cy + radius);

@@ -1,6 +1,7 @@
 #include "src/sfm/pose_guided_matching.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -196,6 +197,30 @@ TEST(PoseGuidedMatching, TargetDepthAndScaleMustAgree) {
     depth.max_depth = 2.1f;
   }
   EXPECT_EQ(GuidedMatchesOneWay(views.image1, nearer, options).rows(), 0);
+}
+
+// A corrupt keypoint (not finite) gets no depth and no match; the others
+// are matched as before.
+TEST(PoseGuidedMatching, NonFiniteKeypointsAreLeftOut) {
+  std::mt19937 rng(13);
+  TwoViews views = MakeTwoViews(100, &rng);
+  const int n = static_cast<int>(views.points_in_world.size());
+  PoseGuidedMatchingOptions options;
+  views.image1.keypoints(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  views.image2.keypoints(0, 1) = std::numeric_limits<float>::infinity();
+  views.image1.depths = KeypointDepthIntervals(
+      views.image1.camera, views.image1.keypoints, views.scan1, options);
+  views.image2.depths = KeypointDepthIntervals(
+      views.image2.camera, views.image2.keypoints, views.scan2, options);
+  EXPECT_EQ(views.image1.depths[0].max_depth, 0.0f);
+  const FeatureMatchesBlob matches =
+      GuidedMatchesOneWay(views.image1, views.image2, options);
+  EXPECT_GT(matches.rows(), 0.9 * n);
+  for (int m = 0; m < matches.rows(); ++m) {
+    EXPECT_NE(matches(m, 0), 0u);
+    EXPECT_NE(matches(m, 1), 0u);
+    EXPECT_EQ(matches(m, 1), n - 1 - matches(m, 0));
+  }
 }
 
 // Poses that do not explain the matches (camera 2 tilted by 5.7 deg, its
