@@ -18,17 +18,9 @@
 namespace colmap_lidar {
 namespace {
 
-// COLMAP's SIFT descriptors are unit vectors scaled by 512 and rounded.
-constexpr float kDescriptorNormSquared = 512.0f * 512.0f;
 // Rows of image 1 per block of the dot-product matrix (memory: block x n2
 // floats).
 constexpr int kRowBlock = 512;
-
-// Descriptor distance as COLMAP's matcher: the angle between the unit
-// descriptors.
-float DotToDistance(float dot) {
-  return std::acos(std::min(dot / kDescriptorNormSquared, 1.0f));
-}
 
 struct ImageFeatures {
   DatabaseImage image;
@@ -97,6 +89,12 @@ TwoViewGeometry Verify(const ImageFeatures& features1,
 }
 
 }  // namespace
+
+float DotToDistance(float dot) {
+  // COLMAP's SIFT descriptors are unit vectors scaled by 512 and rounded.
+  constexpr float kDescriptorNormSquared = 512.0f * 512.0f;
+  return std::acos(std::min(dot / kDescriptorNormSquared, 1.0f));
+}
 
 bool ExactMatchingOptions::Check() const {
   bool ok = true;

@@ -49,6 +49,10 @@ struct ExactMatchingOptions {
   bool Check() const;
 };
 
+// Descriptor distance as COLMAP's matcher: the angle (radians) between the
+// unit descriptors whose uint8 dot product is `dot`.
+float DotToDistance(float dot);
+
 // RANSAC trials of the verification: max_num_trials, or fewer where more
 // could change no verdict but by chance. A pair is kept only when at least
 // min_inlier_ratio of its matches are inliers, and ln(1 - confidence) /

@@ -151,6 +151,9 @@ std::string LidarMapperSummary::Format() const {
   if (!init_alignment.empty()) {
     out << "  initial model: " << init_alignment << "\n";
   }
+  if (!guided_matching.empty()) {
+    out << "  pose-guided matching: " << guided_matching << "\n";
+  }
   for (size_t i = 0; i < iterations.size(); ++i) {
     const LidarMapperIteration& it = iterations[i];
     out << "  iteration " << i + 1 << (it.rejected ? " (undone)" : "")

@@ -13,13 +13,12 @@
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/parallel.h"
 #include "src/lidar/scan_io.h"
+#include "src/sfm/exact_feature_matcher.h"
 
 namespace colmap_lidar {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// COLMAP's SIFT descriptors are unit vectors scaled by 512 and rounded.
-constexpr double kDescriptorNormSquared = 512.0 * 512.0;
 // Depths of the search without a LIDAR depth (the agreement test), metres.
 constexpr double kMinSearchDepthM = 0.5;
 constexpr double kMaxSearchDepthM = 1e4;
@@ -32,7 +31,7 @@ double DescriptorDistance(const FeatureDescriptorsBlob& d1, int row1,
   const uint8_t* a = d1.data() + static_cast<size_t>(row1) * d1.cols();
   const uint8_t* b = d2.data() + static_cast<size_t>(row2) * d2.cols();
   for (int k = 0; k < d1.cols(); ++k) dot += int(a[k]) * int(b[k]);
-  return std::acos(std::min(dot / kDescriptorNormSquared, 1.0));
+  return DotToDistance(static_cast<float>(dot));
 }
 
 // Points (x, y) in a uniform grid of square cells over their bounding box.
