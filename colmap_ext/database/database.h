@@ -89,6 +89,14 @@ struct LidarScanRecord {
   Rigid3d cam_from_lidar;
 };
 
+// The file that holds a scan record's points: `scan_path` (a record's
+// path) itself when absolute, else relative to the folder of the database
+// file `database_path` (the importer writes "lidar/<file>" beside
+// database.db), lexically normalised. The one rule for every stage that
+// reads a workspace's scans.
+std::string LidarScanFilePath(const std::string& database_path,
+                              const std::string& scan_path);
+
 class Database {
  public:
   // A closed database; call Open().

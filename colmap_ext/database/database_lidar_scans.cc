@@ -1,5 +1,6 @@
 // Database (database.h): rows of our ext_lidar_scans table (the scan taken
 // with an image: path, point count, cam_from_lidar as a row-major 3x4 blob).
+#include <filesystem>
 #include <limits>
 
 #include "colmap_ext/database/database.h"
@@ -12,6 +13,17 @@ using database_internal::ToSqliteId;
 using RowMajorMatrix3x4d = Eigen::Matrix<double, 3, 4, Eigen::RowMajor>;
 
 }  // namespace
+
+std::string LidarScanFilePath(const std::string& database_path,
+                              const std::string& scan_path) {
+  const std::filesystem::path path(scan_path);
+  if (path.is_absolute()) {
+    return path.lexically_normal().string();
+  }
+  return (std::filesystem::path(database_path).parent_path() / path)
+      .lexically_normal()
+      .string();
+}
 
 void Database::WriteLidarScan(const LidarScanRecord& scan) {
   THROW_CHECK(

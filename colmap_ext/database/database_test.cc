@@ -424,6 +424,22 @@ TEST(Database, MatchesAndGeometriesKeepColmapOrientation) {
   EXPECT_EQ(database.ReadAllTwoViewGeometries().size(), 0u);
 }
 
+TEST(Database, LidarScanFilePathIsRelativeToTheDatabasesFolder) {
+  // As the importer writes it: beside database.db.
+  EXPECT_EQ(LidarScanFilePath("/ws/database.db", "lidar/0001.bin"),
+            "/ws/lidar/0001.bin");
+  EXPECT_EQ(LidarScanFilePath("ws/database.db", "lidar/0001.bin"),
+            "ws/lidar/0001.bin");
+  // A database in the working directory: the path as stored.
+  EXPECT_EQ(LidarScanFilePath("database.db", "lidar/0001.bin"),
+            "lidar/0001.bin");
+  EXPECT_EQ(LidarScanFilePath("/ws/sub/database.db", "../scans/./0001.pcd"),
+            "/ws/scans/0001.pcd");
+  // Absolute paths (scans kept outside the workspace) are not re-rooted.
+  EXPECT_EQ(LidarScanFilePath("/ws/database.db", "/data/scans/0001.bin"),
+            "/data/scans/0001.bin");
+}
+
 TEST(Database, LidarScansRoundTripAndCascade) {
   const std::string path = NewDbPath();
   LidarScanRecord scan;

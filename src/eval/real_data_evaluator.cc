@@ -125,11 +125,6 @@ RealDataEvaluation EvaluateRealData(const RealDataEvaluationInput& input,
         ReadReconstruction(input.prior_model_path));
   }
   const Database database(input.database_path);
-  std::string database_dir = ".";
-  const size_t slash = input.database_path.find_last_of('/');
-  if (slash != std::string::npos) {
-    database_dir = input.database_path.substr(0, slash);
-  }
 
   std::vector<const Image*> images;
   for (const Image& image : refined.images) {
@@ -151,11 +146,8 @@ RealDataEvaluation EvaluateRealData(const RealDataEvaluationInput& input,
     if (!record) {
       continue;
     }
-    const std::string scan_path =
-        (!record->path.empty() && record->path[0] == '/')
-            ? record->path
-            : JoinPaths(database_dir, record->path);
-    scans.push_back(ReadLidarScan(scan_path));
+    scans.push_back(ReadLidarScan(
+        LidarScanFilePath(input.database_path, record->path)));
     RealDataFrame frame;
     frame.name = image->name;
     frame.refined_world_from_lidar =

@@ -368,11 +368,6 @@ LidarFuserSummary RunLidarFuser(const std::string& database_path,
                  << input_path;
   }
   const Database database(database_path);
-  std::string database_dir = ".";
-  const size_t slash = database_path.find_last_of('/');
-  if (slash != std::string::npos) {
-    database_dir = database_path.substr(0, slash);
-  }
 
   LidarFuserSummary summary;
   std::vector<LidarScan> scans;
@@ -406,10 +401,8 @@ LidarFuserSummary RunLidarFuser(const std::string& database_path,
       ++summary.num_frames_without_scan;
       continue;
     }
-    const std::string scan_path = (!record->path.empty() && record->path[0] == '/')
-                                      ? record->path
-                                      : JoinPaths(database_dir, record->path);
-    scans.push_back(ReadLidarScan(scan_path));
+    scans.push_back(
+        ReadLidarScan(LidarScanFilePath(database_path, record->path)));
     summary.num_raw_points += scans.back().size();
     LidarFusionInput input;
     input.image_idx = static_cast<uint32_t>(idx);

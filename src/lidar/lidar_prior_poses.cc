@@ -49,8 +49,6 @@ LidarPriorPosesSummary RunLidarOdometryPriors(
   }
 
   Database database(database_path);
-  const std::string database_dir =
-      fs::absolute(database_path).parent_path().string();
 
   std::vector<DatabaseImage> images = database.ReadAllImages();
   std::sort(images.begin(), images.end(),
@@ -81,11 +79,8 @@ LidarPriorPosesSummary RunLidarOdometryPriors(
                          world_from_first_cam * first_record.cam_from_lidar);
 
   for (const auto& [image, record] : frames) {
-    const std::string scan_path =
-        fs::path(record.path).is_absolute()
-            ? record.path
-            : JoinPaths(database_dir, record.path);
-    const LidarScan scan = ReadLidarScan(scan_path);
+    const LidarScan scan =
+        ReadLidarScan(LidarScanFilePath(database_path, record.path));
     LidarPriorPose pose;
     pose.image_id = image.image_id;
     pose.image_name = image.name;

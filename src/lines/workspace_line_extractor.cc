@@ -29,17 +29,6 @@ struct Job {
   LidarScanRecord scan;
 };
 
-std::string ResolveScanPath(const std::string& database_path,
-                            const std::string& scan_path) {
-  const std::filesystem::path path(scan_path);
-  if (path.is_absolute()) {
-    return scan_path;
-  }
-  return (std::filesystem::path(database_path).parent_path() / path)
-      .lexically_normal()
-      .string();
-}
-
 // Images to process with their camera and scan; counts the database's
 // images (and those without a scan) into `summary`.
 std::vector<Job> ReadJobs(const Database& database,
@@ -305,7 +294,7 @@ WorkspaceLineExtractionSummary ExtractWorkspaceLines(
         const cv::Mat image = cv::imread(image_file, cv::IMREAD_GRAYSCALE);
         THROW_CHECK(!image.empty(), "Cannot read image " << image_file);
         const LidarScan scan =
-            ReadLidarScan(ResolveScanPath(database_path, job.scan.path));
+            ReadLidarScan(LidarScanFilePath(database_path, job.scan.path));
         const ViewLines lines = ExtractViewLines(
             image, scan, job.camera, job.scan.cam_from_lidar, options);
         ImageResult result;

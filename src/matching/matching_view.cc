@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <optional>
 
@@ -97,19 +96,6 @@ MatchingView MakeMatchingView(const image_t image_id, const std::string& name,
   return view;
 }
 
-namespace {
-
-std::string ResolveScanPath(const std::string& database_path,
-                            const std::string& scan_path) {
-  const std::filesystem::path path(scan_path);
-  if (path.is_absolute()) return scan_path;
-  return (std::filesystem::path(database_path).parent_path() / path)
-      .lexically_normal()
-      .string();
-}
-
-}  // namespace
-
 std::vector<MatchingView> LoadMatchingViews(
     const Database& database, const Reconstruction& model,
     const LineMatchingOptions& options) {
@@ -166,7 +152,7 @@ std::vector<MatchingView> LoadMatchingViews(
     if (!options.use_lidar_visibility) return;
     if (!job.scan) return;
     const LidarScan scan =
-        ReadLidarScan(ResolveScanPath(database.path(), job.scan->path));
+        ReadLidarScan(LidarScanFilePath(database.path(), job.scan->path));
     std::vector<Eigen::Vector3d> points_in_cam;
     points_in_cam.reserve(scan.size());
     for (const Eigen::Vector3f& point : scan.points) {

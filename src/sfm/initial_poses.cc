@@ -28,11 +28,8 @@ void InitializeFromLidarGraph(const LidarMapperPaths& paths,
   graph_options.prior_position_sigma_m = options.prior_position_sigma_m;
   graph_options.prior_rotation_sigma_deg = options.prior_rotation_sigma_deg;
   graph_options.num_threads = options.num_threads;
-  const std::string database_dir =
-      std::filesystem::path(paths.database_path).parent_path().string();
   const LidarPoseGraphResult graph =
-      LidarGraphPoses(database, database_dir.empty() ? "." : database_dir,
-                      graph_options, &init->model);
+      LidarGraphPoses(database, graph_options, &init->model);
   LOG(INFO) << "lidar_mapper: " << graph.Format() << "\n"
             << graph.FormatEdges();
   WriteReconstruction(JoinPaths(work_path, "lidar_graph"),

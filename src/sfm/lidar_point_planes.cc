@@ -67,7 +67,6 @@ LidarPlaneScans::LidarPlaneScans(std::vector<LidarPlaneScanInput> scans) {
 }
 
 LidarPlaneScans::LidarPlaneScans(const Database& database,
-                                 const std::string& database_dir,
                                  const Reconstruction& model) {
   std::vector<LidarPlaneScanInput> scans;
   for (const Image& image : model.images) {
@@ -78,9 +77,8 @@ LidarPlaneScans::LidarPlaneScans(const Database& database,
     }
     LidarPlaneScanInput input;
     input.image_id = image.image_id;
-    input.scan = ReadLidarScan((!record->path.empty() && record->path[0] == '/')
-                                   ? record->path
-                                   : JoinPaths(database_dir, record->path));
+    input.scan =
+        ReadLidarScan(LidarScanFilePath(database.path(), record->path));
     input.cam_from_lidar = record->cam_from_lidar;
     scans.push_back(std::move(input));
   }

@@ -93,10 +93,9 @@ class LidarPlaneScans {
   // The given scans; the range noise is measured over (up to 8 of) them.
   explicit LidarPlaneScans(std::vector<LidarPlaneScanInput> scans);
   // Reads the scan of every image of `model` that the database has one for
-  // (ext_lidar_scans, relative paths from database_dir). Throws
-  // colmap_lidar::Error naming the file when a scan cannot be read.
-  LidarPlaneScans(const Database& database, const std::string& database_dir,
-                  const Reconstruction& model);
+  // (ext_lidar_scans; LidarScanFilePath). Throws colmap_lidar::Error
+  // naming the file when a scan cannot be read.
+  LidarPlaneScans(const Database& database, const Reconstruction& model);
   ~LidarPlaneScans();
 
   int NumScans() const;

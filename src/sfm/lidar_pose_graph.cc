@@ -555,7 +555,6 @@ LidarPoseGraphResult SolveLidarPoseGraph(
 }
 
 LidarPoseGraphResult LidarGraphPoses(const Database& database,
-                                     const std::string& database_dir,
                                      const LidarPoseGraphOptions& options,
                                      Reconstruction* model) {
   THROW_CHECK(model != nullptr, "LidarGraphPoses: no model");
@@ -577,11 +576,8 @@ LidarPoseGraphResult LidarGraphPoses(const Database& database,
                    << " has no LIDAR scan; it keeps its pose";
       continue;
     }
-    const std::string scan_path =
-        (!record->path.empty() && record->path[0] == '/')
-            ? record->path
-            : JoinPaths(database_dir, record->path);
-    scans.push_back(ReadLidarScan(scan_path));
+    scans.push_back(
+        ReadLidarScan(LidarScanFilePath(database.path(), record->path)));
     LidarPoseGraphFrame frame;
     frame.name = image->name;
     frame.prior_world_from_cam = image->cam_from_world.Inverse();

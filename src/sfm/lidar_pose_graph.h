@@ -196,11 +196,10 @@ LidarPoseGraphResult SolveLidarPoseGraph(
     const LidarPoseGraphOptions& options);
 
 // The graph over the images of `model` that have a LIDAR scan in
-// `database` (ext_lidar_scans; relative paths from database_dir), in the
+// `database` (ext_lidar_scans; LidarScanFilePath), in the
 // order of their names, with the images' current poses as priors; writes
 // the solved poses into `model`. Images without a scan keep their pose.
 LidarPoseGraphResult LidarGraphPoses(const Database& database,
-                                     const std::string& database_dir,
                                      const LidarPoseGraphOptions& options,
                                      Reconstruction* model);
 

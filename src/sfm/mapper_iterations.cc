@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <memory>
 #include <sstream>
 #include <unordered_set>
@@ -103,12 +102,9 @@ bool GuidedMatchingAtPoses(const LidarMapperPaths& paths,
   guided.pose_sigma_m = options.refined_pose_sigma_t_m;
   guided.pose_sigma_deg = options.refined_pose_sigma_r_deg;
   guided.num_threads = options.num_threads;
-  const std::string database_dir =
-      std::filesystem::path(paths.database_path).parent_path().string();
   const std::string output = JoinPaths(work_path, "guided_matches.db");
   const PoseGuidedMatchingSummary result = RunPoseGuidedMatching(
-      paths.database_path, database_dir.empty() ? "." : database_dir, model,
-      trusted, pairs, guided, output);
+      paths.database_path, model, trusted, pairs, guided, output);
   LOG(INFO) << "lidar_mapper: pose-guided matching: " << result.ToString();
   summary->guided_matching = result.ToString();
   if (result.num_added == 0) return false;
@@ -136,10 +132,7 @@ void RunMapperIterations(const ColmapRunner& colmap,
   std::unique_ptr<LidarPlaneScans> plane_scans;
   if (options.adjustment.lidar_point_weight > 0.0 &&
       options.adjustment.lambda_R > 0.0) {
-    const std::string database_dir =
-        std::filesystem::path(paths.database_path).parent_path().string();
-    plane_scans = std::make_unique<LidarPlaneScans>(
-        *database, database_dir.empty() ? "." : database_dir, model);
+    plane_scans = std::make_unique<LidarPlaneScans>(*database, model);
     LOG(INFO) << "lidar_mapper: " << plane_scans->NumScans()
               << " scans for the LIDAR planes of the points, range noise "
               << plane_scans->RangeSigma() << " m";

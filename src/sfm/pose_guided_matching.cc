@@ -522,7 +522,7 @@ std::vector<std::pair<image_t, image_t>> NearestImagePairs(
 }
 
 PoseGuidedMatchingSummary RunPoseGuidedMatching(
-    const std::string& database_path, const std::string& database_dir,
+    const std::string& database_path,
     const Reconstruction& model, const std::unordered_set<image_t>& trusted,
     const std::vector<std::pair<image_t, image_t>>& pairs,
     const PoseGuidedMatchingOptions& options,
@@ -576,10 +576,8 @@ PoseGuidedMatchingSummary RunPoseGuidedMatching(
                                             << " descriptors");
       const std::optional<LidarScanRecord> record = database.ReadLidarScan(id);
       if (!record) continue;
-      const LidarScan scan = ReadLidarScan(
-          (!record->path.empty() && record->path[0] == '/')
-              ? record->path
-              : JoinPaths(database_dir, record->path));
+      const LidarScan scan =
+          ReadLidarScan(LidarScanFilePath(database_path, record->path));
       const Eigen::Matrix3f rotation =
           record->cam_from_lidar.rotation.toRotationMatrix().cast<float>();
       const Eigen::Vector3f translation =

@@ -181,13 +181,13 @@ std::vector<std::pair<image_t, image_t>> NearestImagePairs(
 // Guided matches for the NearestImagePairs of `pairs` (ids of `model`'s
 // images, first < second) of
 // the images in `trusted` at their poses in `model`, their scans read as
-// lidar_mapper does (ext_lidar_scans, relative paths from database_dir).
+// lidar_mapper does (ext_lidar_scans; LidarScanFilePath).
 // Writes the triangulation database `output_database_path` (replaced): the
 // workspace database's cameras, images and keypoints, and every two-view
 // geometry, merged with the guided matches. Throws colmap_lidar::Error
 // naming the file on a missing image, camera or unreadable scan.
 PoseGuidedMatchingSummary RunPoseGuidedMatching(
-    const std::string& database_path, const std::string& database_dir,
+    const std::string& database_path,
     const Reconstruction& model, const std::unordered_set<image_t>& trusted,
     const std::vector<std::pair<image_t, image_t>>& pairs,
     const PoseGuidedMatchingOptions& options,
