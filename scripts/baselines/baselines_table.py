@@ -26,6 +26,7 @@ Usage: baselines_table.py --work DIR --cells a,b [--summary]
              meshes' F after ICP on both regions of recall
 """
 import argparse
+import functools
 import glob
 import json
 import os
@@ -42,8 +43,11 @@ def quaternion_matrix(w, x, y, z):
         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
+@functools.lru_cache(maxsize=None)
 def read_centres(model):
-    """Camera centres by image name stem of a COLMAP model (text or binary)."""
+    """Camera centres by image name stem of a COLMAP model (text or binary).
+    Read once per model (Table I reads a model once per rival run); the
+    returned dict is shared: callers must not modify it."""
     centres = {}
     text, binary = os.path.join(model, "images.txt"), os.path.join(model, "images.bin")
     if os.path.exists(binary):
@@ -71,8 +75,10 @@ def read_centres(model):
     return centres
 
 
+@functools.lru_cache(maxsize=None)
 def read_pose_file(path):
-    """Centres (world_from_cam translations) by frame of a poses_*.txt."""
+    """Centres (world_from_cam translations) by frame of a poses_*.txt; read
+    once per file, the returned dict shared (not to be modified)."""
     centres = {}
     for line in open(path):
         if line.startswith("#") or not line.strip():
@@ -285,7 +291,8 @@ def summary_pose_rows(work, cells):
                 if not figures:
                     continue
                 compared = ours_values
-                if key == "paper" and min(figures["registered"] or [0]) < min(ours["registered"]):
+                if (key == "paper" and ours["registered"] and
+                        min(figures["registered"] or [0]) < min(ours["registered"])):
                     compared = ours_on_frames(ours, dataset, figures["frames"])
                     same_frames.append(f"{median_worst(compared, worst, digits)} on the frames of {name}")
                 rivals.append((np.median([v for v in figures[key] if v is not None]), compared))
