@@ -23,7 +23,11 @@ Printed: tracks, mean observations per track, labelled share, and
   tops of a row of windows) counting as one line;
 - not vertical: share of tracks whose mean world direction is more than
   --vertical_angle_deg from the z axis (horizontal edges constrain roll and
-  height; without --segment_labels only).
+  height; without --segment_labels only);
+- impure tracks by cause: an observation without a label; labelled edges at
+  most --near_edges_m apart (parallel edges a few cm apart, e.g. a window
+  frame's and its recess's sides, which the nearest-edge label cannot tell
+  apart at the observations' error); edges farther apart (a wrong match).
 """
 import argparse
 import json
@@ -146,6 +150,20 @@ def nearest_edge(world, direction, edges, directions, max_distance, cos_max):
     return best
 
 
+def max_edge_separation(labels, edges):
+    """Largest distance from the midpoint of one labelled edge to another
+    labelled edge, metres."""
+    separation = 0.0
+    for i in labels:
+        for j in labels:
+            if i == j:
+                continue
+            a, b = edges[j]
+            middle = [0.5 * (edges[i][0][k] + edges[i][1][k]) for k in range(3)]
+            separation = max(separation, point_segment_distance(middle, a, b))
+    return separation
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument('tracks')
@@ -155,6 +173,7 @@ def main():
     parser.add_argument('--max_angle_deg', type=float, default=10.0)
     parser.add_argument('--segment_labels', default=None)
     parser.add_argument('--vertical_angle_deg', type=float, default=20.0)
+    parser.add_argument('--near_edges_m', type=float, default=0.15)
     args = parser.parse_args()
 
     true_labels = None
@@ -179,6 +198,8 @@ def main():
     # A track is vertical when its mean world direction is within
     # --vertical_angle_deg of the z axis (the synthesizer's up).
     num_vertical = 0
+    # Impure tracks by cause (see the module comment).
+    impure_unlabelled = impure_near = impure_far = 0
     cos_vertical = math.cos(math.radians(args.vertical_angle_deg))
     for track in tracks:
         labels = []
@@ -205,6 +226,14 @@ def main():
         pure += len(set(labels)) == 1 and labels[0] is not None
         pure_labelled += len(set(known)) <= 1
         pure_collinear += len(set(find(l) for l in known)) <= 1
+        if len(set(labels)) == 1 and labels[0] is not None:
+            continue
+        if len(set(known)) <= 1:
+            impure_unlabelled += 1
+        elif max_edge_separation(set(known), edges) <= args.near_edges_m:
+            impure_near += 1
+        else:
+            impure_far += 1
     n = max(1, len(tracks))
     print('tracks %d, observations %d, mean track length %.2f, labelled %.1f%%%s' %
           (len(tracks), num_observations, num_observations / n,
@@ -215,6 +244,10 @@ def main():
     if true_labels is None:
         print('not vertical %.1f%% (direction more than %g deg from the z axis)' %
               (100.0 * (len(tracks) - num_vertical) / n, args.vertical_angle_deg))
+    print('impure %d: %d with an unlabelled observation, %d joining edges at most '
+          '%g m apart, %d joining edges farther apart' %
+          (impure_unlabelled + impure_near + impure_far, impure_unlabelled,
+           impure_near, args.near_edges_m, impure_far))
 
 
 if __name__ == '__main__':
