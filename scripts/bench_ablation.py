@@ -32,8 +32,9 @@ without line samples and LIDAR-only Poisson, and wall time. Then per cell
 and variant the poses, F and the variant's wall time, beside the preset's
 own run.
 
-Usage: scripts/bench_ablation.py --default_work DIR --paper_work DIR
-         [--cells a,b] [--parts sfm,mesh,dense] [--presets default,paper]
+Usage: scripts/bench_ablation.py --default_work DIR [--paper_work DIR]
+         [--cells a,b] [--parts sfm,lines,mesh,dense,lidar_fusion]
+         [--presets default,paper]
          [--overwrite] [--table_only]
 A variant already measured on a cell is kept unless --overwrite.
 COLMAP_LIDAR_BIN selects the binary (default build/colmap-lidar).
@@ -50,7 +51,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PAPER_INI = os.path.join(ROOT, "configs", "paper.ini")
 
 # name -> (part, options of automatic_reconstructor's sections). "sfm" runs
-# through lidar_mapper, "mesh" from the mesh stage, "dense" from PatchMatch.
+# through lidar_mapper, "lines" too after clearing the lines (extracted
+# again), "mesh" from the mesh stage, "dense" from PatchMatch, "lidar_fusion"
+# from the dense stage (the LIDAR fusion and what follows).
 EXTENSIONS = [
     ("lidar_pose_graph", "sfm",
      ["LidarMapper.init_method", "LineBundleAdjustment.lidar_edge_weight"]),
@@ -64,12 +67,17 @@ EXTENSIONS = [
     # cell; only the undo by the priors is left of this extension.
     ("prior_guard", "sfm", ["LidarMapper.max_prior_outlier_ratio"]),
     ("pending_images", "sfm", ["LidarMapper.register_pending_images"]),
+    ("guided_matching", "sfm", ["LidarMapper.guided_matching"]),
+    # Line extraction runs inside lidar_mapper: "lines" re-runs it too.
+    ("plane_lifting", "lines", ["LidarMapper.plane_lifting"]),
     ("line_validation", "mesh",
      ["DelaunayMeshing.validate_lines", "DelaunayMeshing.snap_to_creases"]),
     ("crease_snapping", "mesh", ["DelaunayMeshing.snap_to_creases"]),
     ("lidar_denoising", "mesh", ["DelaunayMeshing.lidar_denoise_radius_m"]),
     ("lidar_vertex_merging", "mesh",
      ["DelaunayMeshing.min_lidar_vertex_distance_m"]),
+    ("line_sample_spacing", "mesh", ["DelaunayMeshing.line_sample_step_m"]),
+    ("free_space_filter", "lidar_fusion", ["LidarFusion.free_space_filter"]),
     ("lidar_cost_term", "dense", ["LidarPatchMatch.lidar_prior_weight"]),
     ("lidar_as_view", "dense", ["LidarPatchMatch.filter_lidar_as_view"]),
     ("view_selection", "dense",
@@ -92,6 +100,9 @@ EXTENSIONS = [
 PAPER_LINE_TERM = ("no_paper_line_term", "sfm",
                    {"LineBundleAdjustment.lambda_L": "0"})
 SFM_SECTIONS = ("LidarMapper", "LineMatching", "LineBundleAdjustment")
+SFM_PARTS = ("sfm", "lines")
+# The first stage bench_remesh re-runs for each of the other parts.
+REMESH_FROM = {"mesh": "mesh", "dense": "patch_match", "lidar_fusion": "dense"}
 
 
 def log(message):
@@ -168,7 +179,7 @@ def run(command):
 
 
 def variant_done(work, cell, name, part):
-    if part == "sfm":
+    if part in SFM_PARTS:
         return os.path.exists(os.path.join(work, cell, "run1", "resfm", name,
                                            "poses_sim3_axes.json"))
     return os.path.exists(os.path.join(work, cell, "remesh", name, "ws",
@@ -190,17 +201,17 @@ def run_variants(args, defaults, paper):
         if not cells:
             continue
         cells = ["--cells", ",".join(cells)]
-        if part == "sfm":
+        if part in SFM_PARTS:
             base = paper_sfm if work_key == "paper" else {}
+            relines = ["--relines"] if part == "lines" else []
             run(["bash", "scripts/bench_resfm.sh", "--work", works[work_key],
-                 "--name", name] + cells +
+                 "--name", name] + relines + cells +
                 ["--"] + as_arguments({**base, **options}))
         else:
             preset = (["--project_path", PAPER_INI]
                       if work_key == "paper" else [])
-            start = "mesh" if part == "mesh" else "patch_match"
             run(["bash", "scripts/bench_remesh.sh", "--work", works[work_key],
-                 "--name", name, "--from", start] + cells +
+                 "--name", name, "--from", REMESH_FROM[part]] + cells +
                 ["--"] + preset + as_arguments(options))
 
 
@@ -296,10 +307,14 @@ def seconds_text(value):
     return "-" if value is None else f"{value:.0f}"
 
 
+def has_run(work, cell):
+    return work is not None and os.path.isdir(os.path.join(work, cell, "run1", "ws"))
+
+
 def cells_of(args):
+    """The default's cells; the paper preset's rows where it ran too."""
     cells = sorted(d for d in os.listdir(args.default_work)
-                   if os.path.isdir(os.path.join(args.default_work, d, "run1", "ws"))
-                   and os.path.isdir(os.path.join(args.paper_work, d, "run1", "ws")))
+                   if has_run(args.default_work, d))
     if args.cells:
         cells = [c for c in cells if c in args.cells.split(",")]
     return cells
@@ -321,6 +336,8 @@ def print_presets_table(args):
                 ("stock COLMAP mapper (the paper preset's start)", args.paper_work,
                  "sparse/lidar_mapper/mapper/0", True)]
         for method, work, model, is_mapper in rows:
+            if not has_run(work, cell):
+                continue
             run1 = os.path.join(work, cell, "run1")
             ws = os.path.join(run1, "ws")
             cache = os.path.join(run1, "ablation", method.split()[0].replace("-", "_")
@@ -359,6 +376,8 @@ def print_ablation_table(args, defaults, paper):
     for cell in cells_of(args):
         dataset = os.path.join(args.default_work, cell, "dataset")
         for work_key in ("default", "paper"):
+            if not has_run(works[work_key], cell):
+                continue
             run1 = os.path.join(works[work_key], cell, "run1")
             ws = os.path.join(run1, "ws")
             cache = os.path.join(run1, "ablation", "run")
@@ -371,7 +390,7 @@ def print_ablation_table(args, defaults, paper):
             for key, name, part, _ in variants(defaults, paper):
                 if key != work_key:
                     continue
-                if part == "sfm":
+                if part in SFM_PARTS:
                     out = os.path.join(run1, "resfm", name)
                     if not os.path.exists(os.path.join(out, "poses_sim3_axes.json")):
                         continue
@@ -388,7 +407,7 @@ def print_ablation_table(args, defaults, paper):
                     mesh = load(os.path.join(out_ws, "eval", "mesh_ours.json"))
                     if mesh is None:
                         continue
-                    first = "mesh" if part == "mesh" else "patch_match"
+                    first = REMESH_FROM[part]
                     print(f"| {cell} | {work_key} | {name} | (the run's) | (the run's) | "
                           f"{mesh_text(mesh)} | "
                           f"{seconds_text(stage_seconds(out_ws, first))} |")
@@ -404,9 +423,11 @@ def main():
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--default_work", required=True)
-    parser.add_argument("--paper_work", required=True)
+    parser.add_argument("--paper_work", default=None,
+                        help="the paper preset's matrix; without it, only "
+                             "the default's side")
     parser.add_argument("--cells", default="")
-    parser.add_argument("--parts", default="sfm,mesh")
+    parser.add_argument("--parts", default="sfm,lines,mesh")
     parser.add_argument("--presets", default="default,paper",
                         help="which side to run: default (extensions removed), "
                              "paper (extensions added)")
@@ -419,14 +440,21 @@ def main():
     for preset in args.presets:
         if preset not in ("default", "paper"):
             sys.exit(f"bench_ablation: --presets takes default, paper; got {preset}")
+    parts = SFM_PARTS + tuple(REMESH_FROM)
     for part in args.parts:
-        if part not in ("sfm", "mesh", "dense"):
-            sys.exit(f"bench_ablation: --parts takes sfm, mesh, dense; got {part}")
+        if part not in parts:
+            sys.exit(f"bench_ablation: --parts takes {', '.join(parts)}; "
+                     f"got {part}")
+    if args.paper_work is None and "paper" in args.presets:
+        if "--presets" in sys.argv:
+            sys.exit("bench_ablation: --presets paper needs --paper_work")
+        args.presets = ["default"]
     for work in (args.default_work, args.paper_work):
-        if not os.path.isdir(work):
+        if work is not None and not os.path.isdir(work):
             sys.exit(f"bench_ablation: {work} is not a matrix work folder")
     args.default_work = os.path.abspath(args.default_work)
-    args.paper_work = os.path.abspath(args.paper_work)
+    if args.paper_work is not None:
+        args.paper_work = os.path.abspath(args.paper_work)
     defaults, paper = presets()
     if not args.table_only:
         run_variants(args, defaults, paper)
