@@ -14,6 +14,16 @@ edge (mean endpoint-to-segment distance <= --max_distance, angle <=
 benchmarks/bench_line_matching_segments writes for its ground-truth
 segments), each observation carries the edge it was made from instead: the
 nearest-edge label cannot tell apart edges closer than the depth noise.
+With --calibration CALIBRATION.yaml (the dataset's), each observation is
+labelled in its image instead: the true edges are projected with the
+frame's true pose (and the camera's distortion), and the label is the one
+whose projection lies nearest to the observation's 2D segment (mean
+distance of its endpoints <= --max_distance_px, direction within
+--max_angle_deg), among the edges within --max_distance_3d_m of its 3D
+endpoints (the LIDAR depth only rules out edges far in front of or behind
+it). Parallel edges a few cm apart (a window frame's and its recess's
+sides) are a pixel or more apart in the image up to 20-30 m, where the
+observations' 3D endpoints are off by several cm along the ray.
 
 Printed: tracks, mean observations per track, labelled share, and
 - precision: share of tracks whose observations all carry one and the same
@@ -106,6 +116,112 @@ def observation_in_world(obs, poses):
     return world, ([x / n for x in d] if n > 0 else [1.0, 0.0, 0.0])
 
 
+def read_camera(path):
+    """(model, params) of the dataset's calibration.yaml (no yaml module)."""
+    model, params, section = None, None, None
+    for raw in open(path):
+        line = raw.split('#')[0].rstrip()
+        if not line.strip():
+            continue
+        if not line.startswith(' '):
+            section = line.split(':')[0].strip()
+            continue
+        key, _, value = line.strip().partition(':')
+        if section == 'camera' and key == 'model':
+            model = value.strip()
+        elif section == 'camera' and key == 'params':
+            params = [float(v) for v in value.strip().strip('[]').split(',')]
+    supported = ('SIMPLE_PINHOLE', 'PINHOLE', 'SIMPLE_RADIAL', 'RADIAL', 'OPENCV')
+    if model not in supported or params is None:
+        raise SystemExit('%s: camera model %s is not one of %s' %
+                         (path, model, ', '.join(supported)))
+    return model, params
+
+
+def project(camera, p):
+    """Pixel of the camera-frame point p (COLMAP's models), or None behind
+    the camera."""
+    model, k = camera
+    if p[2] <= 1e-6:
+        return None
+    u, v = p[0] / p[2], p[1] / p[2]
+    if model in ('SIMPLE_PINHOLE', 'SIMPLE_RADIAL', 'RADIAL'):
+        fx = fy = k[0]
+        cx, cy = k[1], k[2]
+        extra = k[3:]
+    else:
+        fx, fy, cx, cy = k[0:4]
+        extra = k[4:]
+    if model in ('SIMPLE_RADIAL', 'RADIAL', 'OPENCV'):
+        k1 = extra[0]
+        k2 = extra[1] if model in ('RADIAL', 'OPENCV') else 0.0
+        r2 = u * u + v * v
+        radial = k1 * r2 + k2 * r2 * r2
+        du, dv = u * radial, v * radial
+        if model == 'OPENCV':
+            p1, p2 = extra[2], extra[3]
+            du += 2 * p1 * u * v + p2 * (r2 + 2 * u * u)
+            dv += p1 * (r2 + 2 * v * v) + 2 * p2 * u * v
+        u, v = u + du, v + dv
+    return [fx * u + cx, fy * v + cy]
+
+
+def point_polyline_2d(q, polyline):
+    """Distance of q to a 2D polyline and the unit direction of its nearest
+    piece."""
+    best, best_direction = float('inf'), None
+    for a, b in zip(polyline, polyline[1:]):
+        ab = [b[0] - a[0], b[1] - a[1]]
+        length2 = ab[0] * ab[0] + ab[1] * ab[1]
+        if length2 == 0:
+            continue
+        t = max(0.0, min(1.0, ((q[0] - a[0]) * ab[0] + (q[1] - a[1]) * ab[1]) / length2))
+        d = math.hypot(q[0] - a[0] - t * ab[0], q[1] - a[1] - t * ab[1])
+        if d < best:
+            n = math.sqrt(length2)
+            best, best_direction = d, [ab[0] / n, ab[1] / n]
+    return best, best_direction
+
+
+def nearest_edge_in_image(obs, world, pose, camera, edges, max_distance_3d,
+                          max_distance_px, cos_max):
+    """Index of the true edge whose projection lies nearest to the
+    observation's 2D segment (see the module comment), or None."""
+    rotation, translation = pose  # world_from_cam
+    s2, e2 = obs['start2D'], obs['end2D']
+    length = math.hypot(e2[0] - s2[0], e2[1] - s2[1])
+    if length == 0:
+        return None
+    direction = [(e2[0] - s2[0]) / length, (e2[1] - s2[1]) / length]
+    best, best_distance = None, max_distance_px
+    for e, (a, b) in enumerate(edges):
+        if 0.5 * (point_segment_distance(world[0], a, b) +
+                  point_segment_distance(world[1], a, b)) > max_distance_3d:
+            continue
+        polyline = []
+        for i in range(17):
+            t = i / 16.0
+            w = [a[k] + t * (b[k] - a[k]) for k in range(3)]
+            d = sub(w, translation)
+            # cam = R^T (w - t)
+            c = [sum(rotation[r][col] * d[r] for r in range(3)) for col in range(3)]
+            pixel = project(camera, c)
+            if pixel is not None:
+                polyline.append(pixel)
+        if len(polyline) < 2:
+            continue
+        d_start, dir_start = point_polyline_2d(s2, polyline)
+        d_end, dir_end = point_polyline_2d(e2, polyline)
+        distance = 0.5 * (d_start + d_end)
+        if distance > best_distance:
+            continue
+        if max(abs(direction[0] * dir_start[0] + direction[1] * dir_start[1]),
+               abs(direction[0] * dir_end[0] + direction[1] * dir_end[1])) < cos_max:
+            continue
+        best, best_distance = e, distance
+    return best
+
+
 def edge_directions(edges):
     directions = []
     for a, b in edges:
@@ -174,6 +290,11 @@ def main():
     parser.add_argument('--segment_labels', default=None)
     parser.add_argument('--vertical_angle_deg', type=float, default=20.0)
     parser.add_argument('--near_edges_m', type=float, default=0.15)
+    parser.add_argument('--calibration', default=None,
+                        help="the dataset's calibration.yaml: label each "
+                             "observation in its image (see above)")
+    parser.add_argument('--max_distance_px', type=float, default=2.0)
+    parser.add_argument('--max_distance_3d_m', type=float, default=1.0)
     args = parser.parse_args()
 
     true_labels = None
@@ -186,6 +307,7 @@ def main():
             true_labels[(name, int(segment_idx))] = int(edge_idx)
 
     poses = read_poses(args.poses_gt)
+    camera = read_camera(args.calibration) if args.calibration else None
     edges = read_edges(args.crease_edges)
     directions = edge_directions(edges)
     find = collinear_groups(edges, directions)
@@ -215,8 +337,14 @@ def main():
             sign = 1.0 if dot(d, track_direction) >= 0 else -1.0
             track_direction = [track_direction[i] + sign * d[i]
                                for i in range(3)]
-            best = nearest_edge(world, d, edges, directions,
-                                args.max_distance, cos_max)
+            if camera is not None:
+                frame = os.path.splitext(os.path.basename(obs['image_name']))[0]
+                best = nearest_edge_in_image(obs, world, poses[frame], camera,
+                                             edges, args.max_distance_3d_m,
+                                             args.max_distance_px, cos_max)
+            else:
+                best = nearest_edge(world, d, edges, directions,
+                                    args.max_distance, cos_max)
             labels.append(best)
             num_labelled += best is not None
         if true_labels is None and norm(track_direction) > 0:
@@ -238,7 +366,8 @@ def main():
     print('tracks %d, observations %d, mean track length %.2f, labelled %.1f%%%s' %
           (len(tracks), num_observations, num_observations / n,
            100.0 * num_labelled / max(1, num_observations),
-           ' (true edges)' if true_labels is not None else ''))
+           ' (true edges)' if true_labels is not None else
+           ' (in the images)' if camera is not None else ''))
     print('precision %.2f%%, precision_labelled %.2f%%, precision_collinear %.2f%%' %
           (100.0 * pure / n, 100.0 * pure_labelled / n, 100.0 * pure_collinear / n))
     if true_labels is None:
