@@ -37,13 +37,24 @@ variant_parse_args() {
 
 # variant_copy_run1 RUN OUT: OUT/ws becomes a copy of RUN/ws made of hard
 # links (every stage writes new files and renames them, so the links are
-# never written through), but for a real copy of database.db (SQLite writes
-# in place) and without the evaluation and the report.
+# never written through), but for real copies of database.db (SQLite writes
+# in place) and of the pipeline's logs (appended to), and without the
+# evaluation and the report. The copy is made under another name and
+# renamed when complete: a copy that fails half-way (a full disk) leaves no
+# OUT/ws holding the run's own evaluation, which would pass for the
+# variant's.
 variant_copy_run1() {
   local run=$1 out=$2
+  local partial="${out}/ws.partial"
   rm -rf "${out}"
-  mkdir -p "${out}/ws"
-  cp -al "${run}/ws/." "${out}/ws/"
-  rm -f "${out}/ws/database.db" && cp "${run}/ws/database.db" "${out}/ws/database.db"
-  rm -rf "${out}/ws/eval" "${out}/ws/report"
+  mkdir -p "${partial}"
+  cp -al "${run}/ws/." "${partial}/"
+  rm -f "${partial}/database.db" && cp "${run}/ws/database.db" "${partial}/database.db"
+  local log
+  for log in "${partial}"/pipeline/*.log; do
+    [[ -f "${log}" ]] || continue
+    cp --remove-destination "${run}/ws/pipeline/$(basename "${log}")" "${log}"
+  done
+  rm -rf "${partial}/eval" "${partial}/report"
+  mv "${partial}" "${out}/ws"
 }
