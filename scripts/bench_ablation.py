@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """The ablation of issue 21: what each extension of colmap-lidar buys.
 
-Needs two finished rounds of the benchmark matrix on the same cells, one with
-the defaults and one with the paper preset (configs/paper.ini, the method as
-published):
+Needs a finished round of the benchmark matrix with the defaults and, for
+the paper preset's side, one with the paper preset (configs/paper.ini, the
+method as published) on some of the same cells:
 
   bash scripts/bench_matrix.sh --work W/default
   bash scripts/bench_matrix.sh --work W/paper \\
